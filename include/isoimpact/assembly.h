@@ -1,0 +1,69 @@
+// Layer 4: stiffness and mass matrices and mass lumping, assembled through
+// the discretisation interface (identical code for FEA and IGA).
+#ifndef isoimpact_assembly_h
+#define isoimpact_assembly_h
+
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+
+#include <isoimpact/discretization.h>
+#include <isoimpact/material.h>
+
+#include <string>
+
+namespace isoimpact
+{
+  enum class MassScheme
+  {
+    consistent,
+    row_sum,
+    hrz
+  };
+
+  // "consistent", "row-sum", "HRZ" (the spelling of the parameter files).
+  MassScheme
+  mass_scheme_from_string(const std::string &name);
+  std::string
+  to_string(const MassScheme scheme);
+
+  template <int dim>
+  void
+  make_sparsity_pattern(const Discretization<dim> &      discretization,
+                        const AffineConstraints<double> &constraints,
+                        SparsityPattern &                sparsity_pattern);
+
+  template <int dim>
+  void
+  assemble_stiffness_matrix(const Discretization<dim> &      discretization,
+                            const ElasticMaterial &          material,
+                            const AffineConstraints<double> &constraints,
+                            SparseMatrix<double> &           stiffness_matrix);
+
+  template <int dim>
+  void
+  assemble_consistent_mass_matrix(const Discretization<dim> &      discretization,
+                                  const double                     density,
+                                  const AffineConstraints<double> &constraints,
+                                  SparseMatrix<double> &           mass_matrix);
+
+  /**
+   * Lumped (diagonal) mass, row-sum or HRZ, computed per element in the
+   * basis of the unknowns and condensed with the constraints. A non-positive
+   * element entry throws an error that names the scheme and the element.
+   * Constrained unknowns get mass zero.
+   */
+  template <int dim>
+  Vector<double>
+  assemble_lumped_mass(const Discretization<dim> &      discretization,
+                       const double                     density,
+                       const MassScheme                 scheme,
+                       const AffineConstraints<double> &constraints);
+
+  // Integral of the density over the mesh (exact geometry of the mapping).
+  template <int dim>
+  double
+  integrate_mass(const Discretization<dim> &discretization,
+                 const double               density);
+} // namespace isoimpact
+
+#endif

@@ -1,0 +1,157 @@
+// Layer 3: what FEA and IGA share: boundary segments and the factory.
+#include <deal.II/base/exceptions.h>
+
+#include <isoimpact/discretization.h>
+#include <isoimpact/discretization_fea.h>
+
+#include <cmath>
+
+namespace isoimpact
+{
+  namespace
+  {
+    // B_j^p(eta) and their derivatives.
+    void
+    bernstein_basis(const unsigned int   degree,
+                    const double         eta,
+                    std::vector<double> &values,
+                    std::vector<double> &derivatives)
+    {
+      values.assign(degree + 1, 0.);
+      derivatives.assign(degree + 1, 0.);
+      // Degree p-1 values first (de Casteljau triangle), then degree p.
+      std::vector<double> lower(degree + 1, 0.);
+      lower[0] = 1.;
+      for (unsigned int q = 1; q < degree; ++q)
+        {
+          for (unsigned int j = q; j > 0; --j)
+            lower[j] = (1. - eta) * lower[j] + eta * lower[j - 1];
+          lower[0] *= (1. - eta);
+        }
+      for (unsigned int j = 0; j <= degree; ++j)
+        {
+          const double left  = (j > 0) ? lower[j - 1] : 0.;
+          const double right = (j < degree) ? lower[j] : 0.;
+          values[j]          = (1. - eta) * right + eta * left;
+          derivatives[j]     = degree * (left - right);
+        }
+    }
+  } // namespace
+
+  FullMatrix<double>
+  bernstein_coefficients_from_values(const FullMatrix<double> &values)
+  {
+    const unsigned int n_points = values.n();
+    AssertThrow(n_points >= 2,
+                ExcMessage("Bernstein fit needs at least two points"));
+    const unsigned int  degree = n_points - 1;
+    FullMatrix<double>  vandermonde(n_points, n_points);
+    std::vector<double> b, db;
+    for (unsigned int j = 0; j < n_points; ++j)
+      {
+        bernstein_basis(degree, double(j) / degree, b, db);
+        for (unsigned int m = 0; m < n_points; ++m)
+          vandermonde(j, m) = b[m];
+      }
+    vandermonde.gauss_jordan();
+    // coefficients^T = V^{-1} values^T, i.e. coefficients = values V^{-T}.
+    FullMatrix<double> coefficients(values.m(), n_points);
+    values.mTmult(coefficients, vandermonde);
+    return coefficients;
+  }
+
+  template <int dim>
+  void
+  evaluate_segment_basis(const BoundarySegment<dim> &segment,
+                         const double                eta,
+                         std::vector<double> &       values,
+                         std::vector<double> &       derivatives)
+  {
+    thread_local std::vector<double> b, db;
+    bernstein_basis(segment.degree, eta, b, db);
+    const unsigned int n_nodes = segment.node_positions.size();
+    values.resize(n_nodes);
+    derivatives.resize(n_nodes);
+    double weight_sum = 0., weight_sum_derivative = 0.;
+    for (unsigned int k = 0; k < n_nodes; ++k)
+      {
+        double n = 0., dn = 0.;
+        for (unsigned int j = 0; j <= segment.degree; ++j)
+          {
+            n += segment.bernstein_coefficients(k, j) * b[j];
+            dn += segment.bernstein_coefficients(k, j) * db[j];
+          }
+        values[k]      = segment.node_weights[k] * n;
+        derivatives[k] = segment.node_weights[k] * dn;
+        weight_sum += values[k];
+        weight_sum_derivative += derivatives[k];
+      }
+    for (unsigned int k = 0; k < n_nodes; ++k)
+      {
+        derivatives[k] = (derivatives[k] * weight_sum -
+                          values[k] * weight_sum_derivative) /
+                         (weight_sum * weight_sum);
+        values[k] /= weight_sum;
+      }
+  }
+
+  template <int dim>
+  void
+  mark_free_segment_ends(std::vector<BoundarySegment<dim>> &segments)
+  {
+    std::vector<std::array<Point<dim>, 2>> ends(segments.size());
+    std::vector<double>                    lengths(segments.size());
+    std::vector<double>                    values, derivatives;
+    for (unsigned int s = 0; s < segments.size(); ++s)
+      for (unsigned int e = 0; e < 2; ++e)
+        {
+          evaluate_segment_basis(segments[s], double(e), values, derivatives);
+          Point<dim> x;
+          for (unsigned int k = 0; k < values.size(); ++k)
+            x += values[k] * segments[s].node_positions[k];
+          ends[s][e] = x;
+        }
+    for (unsigned int s = 0; s < segments.size(); ++s)
+      lengths[s] = ends[s][0].distance(ends[s][1]);
+    // Quadratic in the number of segments, but done once in set-up.
+    for (unsigned int s = 0; s < segments.size(); ++s)
+      for (unsigned int e = 0; e < 2; ++e)
+        {
+          bool shared = false;
+          for (unsigned int t = 0; t < segments.size() && !shared; ++t)
+            if (t != s)
+              for (unsigned int f = 0; f < 2; ++f)
+                if (ends[s][e].distance(ends[t][f]) <
+                    1e-8 * std::max(lengths[s], lengths[t]))
+                  shared = true;
+          segments[s].free_end[e] = !shared;
+        }
+  }
+
+  template <int dim>
+  std::unique_ptr<Discretization<dim>>
+  create_discretization(const std::string & kind,
+                        const BodyGeometry &geometry,
+                        const unsigned int  degree)
+  {
+    if (kind == "fea")
+      return std::make_unique<DiscretizationFEA<dim>>(geometry, degree);
+    AssertThrow(false,
+                ExcMessage("unknown discretisation '" + kind +
+                           "': allowed are 'fea' (and 'iga' once the NURBS "
+                           "layer is built in)"));
+    return nullptr;
+  }
+
+  template void
+  evaluate_segment_basis(const BoundarySegment<2> &,
+                         const double,
+                         std::vector<double> &,
+                         std::vector<double> &);
+  template void
+  mark_free_segment_ends(std::vector<BoundarySegment<2>> &);
+  template std::unique_ptr<Discretization<2>>
+  create_discretization<2>(const std::string &,
+                           const BodyGeometry &,
+                           const unsigned int);
+} // namespace isoimpact

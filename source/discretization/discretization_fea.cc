@@ -1,0 +1,297 @@
+// Layer 3: classical FEA with deal.II's FE_Q, MappingQ and manifolds.
+#include <deal.II/base/exceptions.h>
+
+#include <deal.II/dofs/dof_renumbering.h>
+#include <deal.II/dofs/dof_tools.h>
+
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/grid/grid_generator.h>
+
+#include <deal.II/numerics/vector_tools.h>
+
+#include <isoimpact/discretization_fea.h>
+
+namespace isoimpact
+{
+  template <int dim>
+  DiscretizationFEA<dim>::DiscretizationFEA(const BodyGeometry &geometry,
+                                            const unsigned int  degree)
+    : fe(FE_Q<dim>(degree), dim)
+    , mapping(degree)
+    , cell_quadrature(degree + 1)
+  {
+    AssertThrow(degree >= 1,
+                ExcMessage("FEA element degree " + std::to_string(degree) +
+                           " is not allowed: the degree must be at least 1"));
+    make_mesh(geometry);
+
+    dof_handler.reinit(triangulation);
+    dof_handler.distribute_dofs(fe);
+    // Bandwidth-reducing order: neighbouring unknowns close in memory.
+    DoFRenumbering::Cuthill_McKee(dof_handler);
+
+    support_points.resize(dof_handler.n_dofs());
+    DoFTools::map_dofs_to_support_points(mapping, dof_handler, support_points);
+
+    components.resize(dof_handler.n_dofs());
+    std::vector<types::global_dof_index> indices(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        cell->get_dof_indices(indices);
+        for (unsigned int i = 0; i < indices.size(); ++i)
+          components[indices[i]] = fe.system_to_component_index(i).first;
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  DiscretizationFEA<dim>::make_mesh(const BodyGeometry &geometry)
+  {
+    using Shape = BodyGeometry::Shape;
+    const Point<dim> center(geometry.center);
+    switch (geometry.shape)
+      {
+        case Shape::half_disk:
+          // Boundary 0: the arc; boundary 1: the cut x = center_x.
+          GridGenerator::half_hyper_ball(triangulation,
+                                         center,
+                                         geometry.radius);
+          break;
+        case Shape::full_disk:
+          GridGenerator::hyper_ball(triangulation, center, geometry.radius);
+          break;
+        case Shape::rectangle:
+          // Boundaries 0, 1, 2, 3: left, right, bottom, top.
+          GridGenerator::hyper_rectangle(triangulation,
+                                         Point<dim>(geometry.lower_left),
+                                         Point<dim>(geometry.upper_right),
+                                         true);
+          break;
+      }
+
+    if (geometry.shape != Shape::rectangle)
+      {
+        // Exact circle on the arc, transfinite interpolation inside so that
+        // refined interior cells follow the curved boundary smoothly.
+        triangulation.set_all_manifold_ids(1);
+        for (const auto &face : triangulation.active_face_iterators())
+          if (face->at_boundary() &&
+              face->boundary_id() == BodyGeometry::curved_boundary_id)
+            face->set_manifold_id(0);
+        triangulation.set_manifold(0, SphericalManifold<dim>(center));
+        interior_manifold.initialize(triangulation);
+        triangulation.set_manifold(1, interior_manifold);
+      }
+
+    triangulation.refine_global(geometry.global_refinements);
+    const Point<dim> refinement_center(geometry.refinement_center);
+    for (unsigned int level = 0; level < geometry.local_refinements; ++level)
+      {
+        for (const auto &cell : triangulation.active_cell_iterators())
+          for (const unsigned int v : cell->vertex_indices())
+            if (cell->vertex(v).distance(refinement_center) <
+                geometry.refinement_radius)
+              {
+                cell->set_refine_flag();
+                break;
+              }
+        triangulation.execute_coarsening_and_refinement();
+      }
+  }
+
+
+
+  template <int dim>
+  std::string
+  DiscretizationFEA<dim>::name() const
+  {
+    return "FEA, " + fe.get_name() + ", MappingQ(" +
+           std::to_string(mapping.get_degree()) + ")";
+  }
+
+  template <int dim>
+  const Triangulation<dim> &
+  DiscretizationFEA<dim>::get_triangulation() const
+  {
+    return triangulation;
+  }
+
+  template <int dim>
+  const Mapping<dim> &
+  DiscretizationFEA<dim>::get_mapping() const
+  {
+    return mapping;
+  }
+
+  template <int dim>
+  const FiniteElement<dim> &
+  DiscretizationFEA<dim>::get_fe() const
+  {
+    return fe;
+  }
+
+  template <int dim>
+  const DoFHandler<dim> &
+  DiscretizationFEA<dim>::get_dof_handler() const
+  {
+    return dof_handler;
+  }
+
+  template <int dim>
+  const Quadrature<dim> &
+  DiscretizationFEA<dim>::get_cell_quadrature() const
+  {
+    return cell_quadrature;
+  }
+
+  template <int dim>
+  types::global_dof_index
+  DiscretizationFEA<dim>::n_dofs() const
+  {
+    return dof_handler.n_dofs();
+  }
+
+  template <int dim>
+  void
+  DiscretizationFEA<dim>::get_dof_indices(
+    const cell_iterator &                 cell,
+    std::vector<types::global_dof_index> &indices) const
+  {
+    indices.resize(fe.n_dofs_per_cell());
+    cell->get_dof_indices(indices);
+  }
+
+  template <int dim>
+  unsigned int
+  DiscretizationFEA<dim>::dof_component(
+    const types::global_dof_index dof) const
+  {
+    return components[dof];
+  }
+
+  template <int dim>
+  Point<dim>
+  DiscretizationFEA<dim>::dof_position(const types::global_dof_index dof) const
+  {
+    return support_points[dof];
+  }
+
+  template <int dim>
+  void
+  DiscretizationFEA<dim>::make_constraints(
+    AffineConstraints<double> &constraints) const
+  {
+    DoFTools::make_hanging_node_constraints(dof_handler, constraints);
+  }
+
+  template <int dim>
+  void
+  DiscretizationFEA<dim>::constrain_component_on_boundary(
+    const types::boundary_id   boundary_id,
+    const unsigned int         component,
+    AffineConstraints<double> &constraints) const
+  {
+    std::vector<bool> mask(dim, false);
+    mask[component] = true;
+    VectorTools::interpolate_boundary_values(mapping,
+                                             dof_handler,
+                                             boundary_id,
+                                             Functions::ZeroFunction<dim>(dim),
+                                             constraints,
+                                             ComponentMask(mask));
+  }
+
+  template <int dim>
+  std::vector<BoundarySegment<dim>>
+  DiscretizationFEA<dim>::boundary_segments(
+    const types::boundary_id boundary_id) const
+  {
+    AssertThrow(dim == 2,
+                ExcMessage("boundary segments are implemented for dim = 2"));
+    const unsigned int      degree   = fe.base_element(0).degree;
+    const unsigned int      n_points = degree + 1;
+    std::vector<Point<dim - 1>> points(n_points);
+    for (unsigned int j = 0; j < n_points; ++j)
+      points[j][0] = double(j) / degree;
+    const Quadrature<dim - 1> sampling(points, std::vector<double>(n_points, 1.));
+    FEFaceValues<dim>         fe_face_values(mapping,
+                                     fe,
+                                     sampling,
+                                     update_values | update_quadrature_points |
+                                       update_normal_vectors);
+
+    std::vector<BoundarySegment<dim>>    segments;
+    std::vector<types::global_dof_index> indices(fe.n_dofs_per_cell());
+    const auto &scalar_fe = fe.base_element(0);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary() &&
+            cell->face(f)->boundary_id() == boundary_id)
+          {
+            fe_face_values.reinit(cell, f);
+            cell->get_dof_indices(indices);
+
+            // The scalar functions of the face; the vector element pairs
+            // them with each component.
+            std::vector<unsigned int> face_functions;
+            for (unsigned int i = 0; i < scalar_fe.n_dofs_per_cell(); ++i)
+              if (scalar_fe.has_support_on_face(i, f))
+                face_functions.push_back(i);
+
+            BoundarySegment<dim> segment;
+            segment.degree = degree;
+            const unsigned int n_nodes = face_functions.size();
+            segment.node_dofs.resize(n_nodes);
+            segment.node_positions.resize(n_nodes);
+            segment.node_weights.assign(n_nodes, 1.);
+            FullMatrix<double> values(n_nodes, n_points);
+            for (unsigned int k = 0; k < n_nodes; ++k)
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  const unsigned int i =
+                    fe.component_to_system_index(d, face_functions[k]);
+                  segment.node_dofs[k][d] = indices[i];
+                  if (d == 0)
+                    {
+                      segment.node_positions[k] = support_points[indices[i]];
+                      for (unsigned int j = 0; j < n_points; ++j)
+                        values(k, j) = fe_face_values.shape_value_component(i, j, 0);
+                    }
+                }
+            segment.bernstein_coefficients =
+              bernstein_coefficients_from_values(values);
+
+            // Orientation: the tangent rotated by -90 degrees against the
+            // outward normal deal.II computes, at the middle of the face.
+            std::vector<double> r, dr;
+            evaluate_segment_basis(segment, 0.5, r, dr);
+            Tensor<1, dim> tangent;
+            for (unsigned int k = 0; k < n_nodes; ++k)
+              tangent += dr[k] * segment.node_positions[k];
+            Tensor<1, dim> rotated;
+            rotated[0] = tangent[1];
+            rotated[1] = -tangent[0];
+            const Tensor<1, dim> normal =
+              fe_face_values.normal_vector(n_points / 2);
+            segment.normal_orientation = (rotated * normal > 0) ? 1. : -1.;
+            segments.push_back(segment);
+          }
+    mark_free_segment_ends(segments);
+    return segments;
+  }
+
+  template <int dim>
+  void
+  DiscretizationFEA<dim>::to_dof_handler_vector(
+    const Vector<double> &unknowns,
+    Vector<double> &      dof_handler_vector) const
+  {
+    dof_handler_vector = unknowns;
+  }
+
+  template class DiscretizationFEA<2>;
+} // namespace isoimpact

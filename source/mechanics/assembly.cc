@@ -1,0 +1,290 @@
+// Layer 4: assembly of stiffness and mass through the discretisation
+// interface.
+#include <deal.II/base/exceptions.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+
+#include <isoimpact/assembly.h>
+
+#include <sstream>
+
+namespace isoimpact
+{
+  MassScheme
+  mass_scheme_from_string(const std::string &name)
+  {
+    if (name == "consistent")
+      return MassScheme::consistent;
+    if (name == "row-sum")
+      return MassScheme::row_sum;
+    if (name == "HRZ")
+      return MassScheme::hrz;
+    AssertThrow(false,
+                ExcMessage("unknown mass matrix '" + name +
+                           "': allowed are consistent, row-sum, HRZ"));
+    return MassScheme::consistent;
+  }
+
+  std::string
+  to_string(const MassScheme scheme)
+  {
+    switch (scheme)
+      {
+        case MassScheme::consistent:
+          return "consistent";
+        case MassScheme::row_sum:
+          return "row-sum";
+        case MassScheme::hrz:
+          return "HRZ";
+      }
+    return "";
+  }
+
+  template <int dim>
+  void
+  make_sparsity_pattern(const Discretization<dim> &      discretization,
+                        const AffineConstraints<double> &constraints,
+                        SparsityPattern &                sparsity_pattern)
+  {
+    DynamicSparsityPattern               dsp(discretization.n_dofs());
+    std::vector<types::global_dof_index> indices;
+    for (const auto &cell :
+         discretization.get_dof_handler().active_cell_iterators())
+      {
+        discretization.get_dof_indices(cell, indices);
+        constraints.add_entries_local_to_global(indices, dsp, false);
+      }
+    sparsity_pattern.copy_from(dsp);
+  }
+
+  namespace
+  {
+    // Loops over cells with FEValues and hands the local matrix of `local`
+    // to the constraints for condensation into the global matrix.
+    template <int dim, typename LocalAssembler>
+    void
+    assemble_matrix(const Discretization<dim> &      discretization,
+                    const UpdateFlags                flags,
+                    const AffineConstraints<double> &constraints,
+                    SparseMatrix<double> &           matrix,
+                    const LocalAssembler &           local)
+    {
+      const auto &       fe = discretization.get_fe();
+      FEValues<dim>      fe_values(discretization.get_mapping(),
+                              fe,
+                              discretization.get_cell_quadrature(),
+                              flags | update_JxW_values);
+      FullMatrix<double> cell_matrix(fe.n_dofs_per_cell(),
+                                     fe.n_dofs_per_cell());
+      std::vector<types::global_dof_index> indices;
+      matrix = 0.;
+      for (const auto &cell :
+           discretization.get_dof_handler().active_cell_iterators())
+        {
+          fe_values.reinit(cell);
+          cell_matrix = 0.;
+          local(fe_values, cell_matrix);
+          discretization.get_dof_indices(cell, indices);
+          constraints.distribute_local_to_global(cell_matrix, indices, matrix);
+        }
+    }
+
+    template <int dim>
+    void
+    local_mass_matrix(const FEValues<dim> &fe_values,
+                      const double         density,
+                      FullMatrix<double> & cell_matrix)
+    {
+      const auto &fe = fe_values.get_fe();
+      for (const unsigned int q : fe_values.quadrature_point_indices())
+        for (const unsigned int i : fe_values.dof_indices())
+          {
+            const unsigned int ci = fe.system_to_component_index(i).first;
+            const double       rho_phi_i =
+              density * fe_values.shape_value_component(i, q, ci) *
+              fe_values.JxW(q);
+            for (const unsigned int j : fe_values.dof_indices())
+              if (fe.system_to_component_index(j).first == ci)
+                cell_matrix(i, j) +=
+                  rho_phi_i * fe_values.shape_value_component(j, q, ci);
+          }
+    }
+  } // namespace
+
+  template <int dim>
+  void
+  assemble_stiffness_matrix(const Discretization<dim> &      discretization,
+                            const ElasticMaterial &          material,
+                            const AffineConstraints<double> &constraints,
+                            SparseMatrix<double> &           stiffness_matrix)
+  {
+    const FEValuesExtractors::Vector     displacement(0);
+    std::vector<SymmetricTensor<2, dim>> strain;
+    assemble_matrix<dim>(
+      discretization,
+      update_gradients,
+      constraints,
+      stiffness_matrix,
+      [&](const FEValues<dim> &fe_values, FullMatrix<double> &cell_matrix) {
+        strain.resize(fe_values.dofs_per_cell);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            for (const unsigned int i : fe_values.dof_indices())
+              strain[i] = fe_values[displacement].symmetric_gradient(i, q);
+            for (const unsigned int i : fe_values.dof_indices())
+              {
+                const SymmetricTensor<2, dim> stress_i =
+                  material.stress(strain[i]) * fe_values.JxW(q);
+                for (const unsigned int j : fe_values.dof_indices())
+                  cell_matrix(i, j) += stress_i * strain[j];
+              }
+          }
+      });
+  }
+
+  template <int dim>
+  void
+  assemble_consistent_mass_matrix(const Discretization<dim> &discretization,
+                                  const double               density,
+                                  const AffineConstraints<double> &constraints,
+                                  SparseMatrix<double> &           mass_matrix)
+  {
+    assemble_matrix<dim>(discretization,
+                         update_values,
+                         constraints,
+                         mass_matrix,
+                         [&](const FEValues<dim> &fe_values,
+                             FullMatrix<double> & cell_matrix) {
+                           local_mass_matrix(fe_values, density, cell_matrix);
+                         });
+  }
+
+  template <int dim>
+  Vector<double>
+  assemble_lumped_mass(const Discretization<dim> &      discretization,
+                       const double                     density,
+                       const MassScheme                 scheme,
+                       const AffineConstraints<double> &constraints)
+  {
+    AssertThrow(scheme != MassScheme::consistent,
+                ExcMessage("assemble_lumped_mass needs row-sum or HRZ"));
+    const auto &       fe = discretization.get_fe();
+    FEValues<dim>      fe_values(discretization.get_mapping(),
+                            fe,
+                            discretization.get_cell_quadrature(),
+                            update_values | update_JxW_values);
+    const unsigned int n = fe.n_dofs_per_cell();
+    FullMatrix<double> cell_matrix(n, n);
+    Vector<double>     cell_mass(n);
+    Vector<double>     lumped(discretization.n_dofs());
+    std::vector<types::global_dof_index> indices;
+    for (const auto &cell :
+         discretization.get_dof_handler().active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        cell_matrix = 0.;
+        local_mass_matrix(fe_values, density, cell_matrix);
+
+        // Mass of the element (each displacement component carries it).
+        double element_mass = 0.;
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          element_mass += density * fe_values.JxW(q);
+
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            cell_mass(i) = 0.;
+            if (scheme == MassScheme::row_sum)
+              for (unsigned int j = 0; j < n; ++j)
+                cell_mass(i) += cell_matrix(i, j);
+            else
+              cell_mass(i) = cell_matrix(i, i);
+          }
+        if (scheme == MassScheme::hrz)
+          for (unsigned int c = 0; c < fe.n_components(); ++c)
+            {
+              double diagonal_sum = 0.;
+              for (unsigned int i = 0; i < n; ++i)
+                if (fe.system_to_component_index(i).first == c)
+                  diagonal_sum += cell_mass(i);
+              for (unsigned int i = 0; i < n; ++i)
+                if (fe.system_to_component_index(i).first == c)
+                  cell_mass(i) *= element_mass / diagonal_sum;
+            }
+
+        for (unsigned int i = 0; i < n; ++i)
+          if (!(cell_mass(i) > 0.))
+            {
+              std::ostringstream message;
+              message << to_string(scheme)
+                      << " mass lumping gives the non-positive mass "
+                      << cell_mass(i) << " kg/m (" << cell_mass(i) / element_mass
+                      << " of the element mass) to local function " << i
+                      << " of element " << cell->id()
+                      << " of the discretisation " << discretization.name()
+                      << ": a lumped mass must be positive for explicit "
+                         "dynamics; choose another mass matrix (HRZ or "
+                         "consistent)";
+              AssertThrow(false, ExcMessage(message.str()));
+            }
+
+        discretization.get_dof_indices(cell, indices);
+        constraints.distribute_local_to_global(cell_mass, indices, lumped);
+      }
+
+    for (types::global_dof_index i = 0; i < lumped.size(); ++i)
+      if (constraints.is_constrained(i))
+        lumped(i) = 0.;
+      else
+        AssertThrow(lumped(i) > 0.,
+                    ExcMessage(to_string(scheme) +
+                               " mass lumping gives the non-positive mass " +
+                               std::to_string(lumped(i)) + " to unknown " +
+                               std::to_string(i) +
+                               " after condensation of the constraints"));
+    return lumped;
+  }
+
+  template <int dim>
+  double
+  integrate_mass(const Discretization<dim> &discretization,
+                 const double               density)
+  {
+    FEValues<dim> fe_values(discretization.get_mapping(),
+                            discretization.get_fe(),
+                            discretization.get_cell_quadrature(),
+                            update_JxW_values);
+    double        mass = 0.;
+    for (const auto &cell :
+         discretization.get_dof_handler().active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          mass += density * fe_values.JxW(q);
+      }
+    return mass;
+  }
+
+  template void
+  make_sparsity_pattern(const Discretization<2> &,
+                        const AffineConstraints<double> &,
+                        SparsityPattern &);
+  template void
+  assemble_stiffness_matrix(const Discretization<2> &,
+                            const ElasticMaterial &,
+                            const AffineConstraints<double> &,
+                            SparseMatrix<double> &);
+  template void
+  assemble_consistent_mass_matrix(const Discretization<2> &,
+                                  const double,
+                                  const AffineConstraints<double> &,
+                                  SparseMatrix<double> &);
+  template Vector<double>
+  assemble_lumped_mass(const Discretization<2> &,
+                       const double,
+                       const MassScheme,
+                       const AffineConstraints<double> &);
+  template double
+  integrate_mass(const Discretization<2> &, const double);
+} // namespace isoimpact
