@@ -1,0 +1,84 @@
+// Layer 5: explicit central-difference time integration of elastic bodies in
+// contact, in the half-step velocity form, with the energy balance.
+//   v^{n+1/2} = v^{n-1/2} + dt a^n,   u^{n+1} = u^n + dt v^{n+1/2},
+//   a^{n+1}   = M^{-1} (f_c(u^{n+1}) - K u^{n+1}),
+// started with v^{1/2} = v^0 + dt/2 a^0. The velocity at whole steps, used
+// for the kinetic energy and the output, is v^n = v^{n-1/2} + dt/2 a^n.
+#ifndef isoimpact_central_difference_h
+#define isoimpact_central_difference_h
+
+#include <isoimpact/contact.h>
+#include <isoimpact/elastic_body.h>
+
+#include <vector>
+
+namespace isoimpact
+{
+  template <int dim>
+  struct ContactInteraction
+  {
+    const PenaltyContact<dim> *contact;
+    unsigned int               first_body;
+    unsigned int               second_body;
+  };
+
+  // Energies per unit thickness (J/m) of the modelled bodies.
+  struct EnergyBalance
+  {
+    double kinetic = 0.;
+    double strain  = 0.;
+    double contact = 0.;
+    double
+    total() const
+    {
+      return kinetic + strain + contact;
+    }
+  };
+
+  template <int dim>
+  class CentralDifference
+  {
+  public:
+    CentralDifference(const std::vector<ElasticBody<dim> *> &      bodies,
+                      const std::vector<ContactInteraction<dim>> &contacts,
+                      const double                                 time_step);
+
+    // Computes a^0 and v^{1/2} from the bodies' initial state.
+    void
+    initialize(const bool record_contact_points = false);
+
+    // One step; the bodies' displacement, velocity (whole step) and
+    // acceleration are those of the new time afterwards.
+    void
+    advance(const bool record_contact_points = false);
+
+    double
+    time() const;
+    unsigned int
+    step_number() const;
+    double
+    time_step() const;
+
+    EnergyBalance
+    energy_balance() const;
+
+    // Contact result of the last evaluation, per interaction.
+    const std::vector<ContactResult<dim>> &
+    contact_results() const;
+
+  private:
+    void
+    compute_accelerations(const bool record_contact_points);
+
+    std::vector<ElasticBody<dim> *>       bodies;
+    std::vector<ContactInteraction<dim>>  contacts;
+    double                                dt;
+    double                                current_time = 0.;
+    unsigned int                          step         = 0;
+    std::vector<Vector<double>>           half_step_velocity;
+    std::vector<Vector<double>>           forces;
+    std::vector<ContactResult<dim>>       results;
+  };
+} // namespace isoimpact
+
+#endif

@@ -1,0 +1,106 @@
+// Layer 4: a linear elastic body: its discretisation, constraints, stiffness
+// and mass (consistent or lumped), and its state u, v, a.
+#ifndef isoimpact_elastic_body_h
+#define isoimpact_elastic_body_h
+
+#include <deal.II/lac/sparse_direct.h>
+
+#include <isoimpact/assembly.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace isoimpact
+{
+  // u_component = 0 on a boundary (symmetry or roller support).
+  struct RollerCondition
+  {
+    types::boundary_id boundary_id;
+    unsigned int       component;
+  };
+
+  template <int dim>
+  class ElasticBody
+  {
+  public:
+    ElasticBody(const std::string &                  name,
+                std::unique_ptr<Discretization<dim>> discretization,
+                const ElasticMaterial &              material,
+                const MassScheme                     mass_scheme,
+                const std::vector<RollerCondition> & rollers,
+                const Tensor<1, dim> &               initial_velocity);
+
+    const std::string &
+    name() const;
+    const Discretization<dim> &
+    discretization() const;
+    const ElasticMaterial &
+    material() const;
+    const AffineConstraints<double> &
+    constraints() const;
+    MassScheme
+    mass_scheme() const;
+    const SparseMatrix<double> &
+    stiffness_matrix() const;
+    types::global_dof_index
+    n_dofs() const;
+
+    /**
+     * a = M^{-1} (f - K u) with f a force vector in the unknowns before
+     * condensation (it is condensed in place); a satisfies the constraints.
+     */
+    void
+    compute_acceleration(const Vector<double> &u,
+                         Vector<double> &      f,
+                         Vector<double> &      a) const;
+
+    // Energies per unit thickness (J/m) and momentum (kg/s per m) of the
+    // modelled body, with the mass matrix in use.
+    double
+    kinetic_energy(const Vector<double> &v) const;
+    double
+    strain_energy(const Vector<double> &u) const;
+    Tensor<1, dim>
+    momentum(const Vector<double> &v) const;
+    // Mass of the body as the mass matrix sees it (kg/m).
+    double
+    total_mass() const;
+
+    /**
+     * Estimate of the stable step of central differences, 2 / omega_max,
+     * omega_max^2 = lambda_max(M^{-1} K) by power iteration (without
+     * contact stiffness).
+     */
+    double
+    estimate_critical_time_step(const unsigned int n_iterations = 200) const;
+
+    // The state: displacement, velocity and acceleration at the current
+    // time, in the unknowns of the discretisation.
+    Vector<double> displacement;
+    Vector<double> velocity;
+    Vector<double> acceleration;
+
+  private:
+    // y = M x with the mass in use, constrained entries ignored.
+    void
+    mass_vmult(Vector<double> &y, const Vector<double> &x) const;
+    void
+    solve_mass(Vector<double> &a, const Vector<double> &f) const;
+
+    std::string                          body_name;
+    std::unique_ptr<Discretization<dim>> discretization_ptr;
+    ElasticMaterial                      body_material;
+    MassScheme                           scheme;
+    AffineConstraints<double>            body_constraints;
+    SparsityPattern                      sparsity_pattern;
+    SparseMatrix<double>                 stiffness;
+    SparseMatrix<double>                 consistent_mass;
+    Vector<double>                       lumped_mass;
+    Vector<double>                       inverse_lumped_mass;
+    SparseDirectUMFPACK                  mass_factorization;
+    mutable Vector<double>               scratch;
+  };
+} // namespace isoimpact
+
+#endif

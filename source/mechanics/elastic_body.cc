@@ -1,0 +1,253 @@
+// Layer 4: a linear elastic body.
+#include <deal.II/base/exceptions.h>
+
+#include <isoimpact/elastic_body.h>
+
+#include <cmath>
+#include <random>
+
+namespace isoimpact
+{
+  template <int dim>
+  ElasticBody<dim>::ElasticBody(
+    const std::string &                  name,
+    std::unique_ptr<Discretization<dim>> discretization,
+    const ElasticMaterial &              material,
+    const MassScheme                     mass_scheme,
+    const std::vector<RollerCondition> & rollers,
+    const Tensor<1, dim> &               initial_velocity)
+    : body_name(name)
+    , discretization_ptr(std::move(discretization))
+    , body_material(material)
+    , scheme(mass_scheme)
+  {
+    const auto &disc = *discretization_ptr;
+    disc.make_constraints(body_constraints);
+    for (const auto &roller : rollers)
+      disc.constrain_component_on_boundary(roller.boundary_id,
+                                           roller.component,
+                                           body_constraints);
+    body_constraints.close();
+
+    make_sparsity_pattern(disc, body_constraints, sparsity_pattern);
+    stiffness.reinit(sparsity_pattern);
+    assemble_stiffness_matrix(disc, material, body_constraints, stiffness);
+
+    if (scheme == MassScheme::consistent)
+      {
+        consistent_mass.reinit(sparsity_pattern);
+        assemble_consistent_mass_matrix(disc,
+                                        material.density,
+                                        body_constraints,
+                                        consistent_mass);
+        // Factorised once, reused in every step.
+        mass_factorization.initialize(consistent_mass);
+      }
+    else
+      {
+        lumped_mass = assemble_lumped_mass(disc,
+                                           material.density,
+                                           scheme,
+                                           body_constraints);
+        inverse_lumped_mass.reinit(lumped_mass.size());
+        for (unsigned int i = 0; i < lumped_mass.size(); ++i)
+          inverse_lumped_mass(i) =
+            (lumped_mass(i) > 0.) ? 1. / lumped_mass(i) : 0.;
+      }
+
+    const types::global_dof_index n = disc.n_dofs();
+    displacement.reinit(n);
+    velocity.reinit(n);
+    acceleration.reinit(n);
+    scratch.reinit(n);
+    // Both bases form a partition of unity: a uniform velocity has equal
+    // coefficients.
+    for (types::global_dof_index i = 0; i < n; ++i)
+      velocity(i) = initial_velocity[disc.dof_component(i)];
+    body_constraints.distribute(velocity);
+  }
+
+  template <int dim>
+  const std::string &
+  ElasticBody<dim>::name() const
+  {
+    return body_name;
+  }
+
+  template <int dim>
+  const Discretization<dim> &
+  ElasticBody<dim>::discretization() const
+  {
+    return *discretization_ptr;
+  }
+
+  template <int dim>
+  const ElasticMaterial &
+  ElasticBody<dim>::material() const
+  {
+    return body_material;
+  }
+
+  template <int dim>
+  const AffineConstraints<double> &
+  ElasticBody<dim>::constraints() const
+  {
+    return body_constraints;
+  }
+
+  template <int dim>
+  MassScheme
+  ElasticBody<dim>::mass_scheme() const
+  {
+    return scheme;
+  }
+
+  template <int dim>
+  const SparseMatrix<double> &
+  ElasticBody<dim>::stiffness_matrix() const
+  {
+    return stiffness;
+  }
+
+  template <int dim>
+  types::global_dof_index
+  ElasticBody<dim>::n_dofs() const
+  {
+    return displacement.size();
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::solve_mass(Vector<double> &a, const Vector<double> &f) const
+  {
+    if (scheme == MassScheme::consistent)
+      mass_factorization.vmult(a, f);
+    else
+      {
+        a = f;
+        a.scale(inverse_lumped_mass);
+      }
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::compute_acceleration(const Vector<double> &u,
+                                         Vector<double> &      f,
+                                         Vector<double> &      a) const
+  {
+    body_constraints.condense(f);
+    stiffness.vmult(scratch, u);
+    f -= scratch;
+    body_constraints.set_zero(f);
+    solve_mass(a, f);
+    body_constraints.distribute(a);
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::mass_vmult(Vector<double> &y, const Vector<double> &x) const
+  {
+    scratch = x;
+    body_constraints.set_zero(scratch);
+    if (scheme == MassScheme::consistent)
+      consistent_mass.vmult(y, scratch);
+    else
+      {
+        y = scratch;
+        y.scale(lumped_mass);
+      }
+  }
+
+  template <int dim>
+  double
+  ElasticBody<dim>::kinetic_energy(const Vector<double> &v) const
+  {
+    Vector<double> mv(v.size());
+    mass_vmult(mv, v);
+    scratch = v;
+    body_constraints.set_zero(scratch);
+    return 0.5 * (mv * scratch);
+  }
+
+  template <int dim>
+  double
+  ElasticBody<dim>::strain_energy(const Vector<double> &u) const
+  {
+    scratch = u;
+    body_constraints.set_zero(scratch);
+    return 0.5 * stiffness.matrix_norm_square(scratch);
+  }
+
+  template <int dim>
+  Tensor<1, dim>
+  ElasticBody<dim>::momentum(const Vector<double> &v) const
+  {
+    // With a partition of unity, the momentum of component c is the sum of
+    // (M v)_i over the unknowns of that component; constrained unknowns
+    // carry no mass of their own after condensation.
+    Vector<double> mv(v.size());
+    mass_vmult(mv, v);
+    Tensor<1, dim> p;
+    for (types::global_dof_index i = 0; i < v.size(); ++i)
+      if (!body_constraints.is_constrained(i))
+        p[discretization_ptr->dof_component(i)] += mv(i);
+    return p;
+  }
+
+  template <int dim>
+  double
+  ElasticBody<dim>::total_mass() const
+  {
+    // M applied to a unit field of component 0, summed.
+    Vector<double> ones(n_dofs()), m(n_dofs());
+    for (types::global_dof_index i = 0; i < ones.size(); ++i)
+      ones(i) = (discretization_ptr->dof_component(i) == 0) ? 1. : 0.;
+    body_constraints.distribute(ones);
+    if (scheme == MassScheme::consistent)
+      consistent_mass.vmult(m, ones);
+    else
+      {
+        m = ones;
+        m.scale(lumped_mass);
+      }
+    double mass = 0.;
+    for (types::global_dof_index i = 0; i < m.size(); ++i)
+      if (!body_constraints.is_constrained(i))
+        mass += m(i);
+    return mass;
+  }
+
+  template <int dim>
+  double
+  ElasticBody<dim>::estimate_critical_time_step(
+    const unsigned int n_iterations) const
+  {
+    // Power iteration on M^{-1} K in the M inner product.
+    Vector<double>                         x(n_dofs()), y(n_dofs());
+    std::mt19937                           generator(42);
+    std::uniform_real_distribution<double> uniform(-1., 1.);
+    for (auto &value : x)
+      value = uniform(generator);
+    body_constraints.set_zero(x);
+    double lambda = 0.;
+    for (unsigned int it = 0; it < n_iterations; ++it)
+      {
+        stiffness.vmult(y, x);
+        body_constraints.set_zero(y);
+        solve_mass(x, y);
+        body_constraints.set_zero(x);
+        Vector<double> mx(n_dofs());
+        mass_vmult(mx, x);
+        const double norm = std::sqrt(mx * x);
+        stiffness.vmult(y, x);
+        lambda = (y * x) / (norm * norm);
+        x /= norm;
+      }
+    AssertThrow(lambda > 0. && std::isfinite(lambda),
+                ExcMessage("critical time step estimate failed for body " +
+                           body_name));
+    return 2. / std::sqrt(lambda);
+  }
+
+  template class ElasticBody<2>;
+} // namespace isoimpact

@@ -1,0 +1,125 @@
+// Layer 5: central differences.
+#include <deal.II/base/exceptions.h>
+
+#include <isoimpact/central_difference.h>
+
+namespace isoimpact
+{
+  template <int dim>
+  CentralDifference<dim>::CentralDifference(
+    const std::vector<ElasticBody<dim> *> &      bodies,
+    const std::vector<ContactInteraction<dim>> &contacts,
+    const double                                 time_step)
+    : bodies(bodies)
+    , contacts(contacts)
+    , dt(time_step)
+    , results(contacts.size())
+  {
+    AssertThrow(time_step > 0.,
+                ExcMessage("time step " + std::to_string(time_step) +
+                           " s is not allowed: it must be positive"));
+    for (const auto *body : bodies)
+      {
+        half_step_velocity.emplace_back(body->n_dofs());
+        forces.emplace_back(body->n_dofs());
+      }
+  }
+
+  template <int dim>
+  void
+  CentralDifference<dim>::compute_accelerations(
+    const bool record_contact_points)
+  {
+    for (auto &f : forces)
+      f = 0.;
+    for (unsigned int c = 0; c < contacts.size(); ++c)
+      {
+        const auto &interaction = contacts[c];
+        results[c]              = interaction.contact->add_forces(
+          bodies[interaction.first_body]->displacement,
+          bodies[interaction.second_body]->displacement,
+          forces[interaction.first_body],
+          forces[interaction.second_body],
+          record_contact_points);
+      }
+    for (unsigned int b = 0; b < bodies.size(); ++b)
+      bodies[b]->compute_acceleration(bodies[b]->displacement,
+                                      forces[b],
+                                      bodies[b]->acceleration);
+  }
+
+  template <int dim>
+  void
+  CentralDifference<dim>::initialize(const bool record_contact_points)
+  {
+    compute_accelerations(record_contact_points);
+    for (unsigned int b = 0; b < bodies.size(); ++b)
+      {
+        half_step_velocity[b] = bodies[b]->velocity;
+        half_step_velocity[b].add(0.5 * dt, bodies[b]->acceleration);
+      }
+  }
+
+  template <int dim>
+  void
+  CentralDifference<dim>::advance(const bool record_contact_points)
+  {
+    for (unsigned int b = 0; b < bodies.size(); ++b)
+      bodies[b]->displacement.add(dt, half_step_velocity[b]);
+    compute_accelerations(record_contact_points);
+    for (unsigned int b = 0; b < bodies.size(); ++b)
+      {
+        // v^{n+1} = v^{n+1/2} + dt/2 a^{n+1}; v^{n+3/2} = v^{n+1/2} + dt a.
+        bodies[b]->velocity = half_step_velocity[b];
+        bodies[b]->velocity.add(0.5 * dt, bodies[b]->acceleration);
+        half_step_velocity[b].add(dt, bodies[b]->acceleration);
+      }
+    ++step;
+    current_time = step * dt;
+  }
+
+  template <int dim>
+  double
+  CentralDifference<dim>::time() const
+  {
+    return current_time;
+  }
+
+  template <int dim>
+  unsigned int
+  CentralDifference<dim>::step_number() const
+  {
+    return step;
+  }
+
+  template <int dim>
+  double
+  CentralDifference<dim>::time_step() const
+  {
+    return dt;
+  }
+
+  template <int dim>
+  EnergyBalance
+  CentralDifference<dim>::energy_balance() const
+  {
+    EnergyBalance energy;
+    for (const auto *body : bodies)
+      {
+        energy.kinetic += body->kinetic_energy(body->velocity);
+        energy.strain += body->strain_energy(body->displacement);
+      }
+    for (const auto &result : results)
+      energy.contact += result.energy;
+    return energy;
+  }
+
+  template <int dim>
+  const std::vector<ContactResult<dim>> &
+  CentralDifference<dim>::contact_results() const
+  {
+    return results;
+  }
+
+  template class CentralDifference<2>;
+} // namespace isoimpact
