@@ -17,10 +17,18 @@ namespace isoimpact
       std::string
       to_string(const double value)
       {
-        std::ostringstream s;
-        s.precision(17);
-        s << value;
-        return s.str();
+        // Shortest text that reads back as the same value.
+        std::string text;
+        for (int digits = 1; digits <= 17; ++digits)
+          {
+            std::ostringstream s;
+            s.precision(digits);
+            s << value;
+            text = s.str();
+            if (!std::isfinite(value) || std::stod(text) == value)
+              break;
+          }
+        return text;
       }
 
       double
@@ -529,7 +537,7 @@ namespace isoimpact
                 copy_row(q1, q0);
               else
                 {
-                  alpha /= (Ubar[k + l] - Uk[i - l + 1]);
+                  alpha /= (Ubar[k + l] - Uk[i - p + l]);
                   for (unsigned int c = 0; c < n_components; ++c)
                     q0[c] = alpha * q0[c] + (1. - alpha) * q1[c];
                 }

@@ -1,7 +1,6 @@
 // Ready-made NURBS patches and the patch text format.
 #include <isoimpact/nurbs_geometries.h>
 
-#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -15,10 +14,18 @@ namespace isoimpact
       std::string
       number_to_string(const double value)
       {
-        std::ostringstream s;
-        s.precision(17);
-        s << value;
-        return s.str();
+        // Shortest text that reads back as the same value.
+        std::string text;
+        for (int digits = 1; digits <= 17; ++digits)
+          {
+            std::ostringstream s;
+            s.precision(digits);
+            s << value;
+            text = s.str();
+            if (!std::isfinite(value) || std::stod(text) == value)
+              break;
+          }
+        return text;
       }
 
       // Control net of a 3 x 3 quadratic Bezier patch from local points
@@ -51,15 +58,17 @@ namespace isoimpact
                                        "and finite"));
       }
 
-      // The message of a deal.II exception without trailing white space.
+      // The message of a deal.II exception on one line.
       std::string
       exception_text(const dealii::ExceptionBase &e)
       {
         std::ostringstream info;
         e.print_info(info);
-        std::string text = info.str();
-        while (!text.empty() && std::isspace(text.back()))
-          text.pop_back();
+        // deal.II indents and wraps the message: undo that.
+        std::istringstream words(info.str());
+        std::string        text, word;
+        while (words >> word)
+          text += (text.empty() ? "" : " ") + word;
         return text;
       }
 
@@ -372,6 +381,11 @@ namespace isoimpact
           for (unsigned int c = 0; c < spacedim; ++c)
             points[a][c] = to_double(line, c);
           weights[a] = to_double(line, spacedim);
+          if (!(weights[a] > 0.))
+            fail(line.number,
+                 "weight " + std::to_string(a) + " (value " +
+                   line.words[spacedim] +
+                   ") is not allowed; weights must be positive and finite");
         }
 
       PatchGeometry<dim, spacedim> geometry;
