@@ -198,22 +198,20 @@ namespace isoimpact
   double
   ElasticBody<dim>::total_mass() const
   {
-    // M applied to a unit field of component 0, summed.
-    Vector<double> ones(n_dofs()), m(n_dofs());
-    for (types::global_dof_index i = 0; i < ones.size(); ++i)
-      ones(i) = (discretization_ptr->dof_component(i) == 0) ? 1. : 0.;
-    body_constraints.distribute(ones);
-    if (scheme == MassScheme::consistent)
-      consistent_mass.vmult(m, ones);
-    else
-      {
-        m = ones;
-        m.scale(lumped_mass);
-      }
+    // The mass seen by a uniform motion of each component; a roller removes
+    // the mass of its constrained unknowns from that component only, so the
+    // largest over the components is the mass of the body.
     double mass = 0.;
-    for (types::global_dof_index i = 0; i < m.size(); ++i)
-      if (!body_constraints.is_constrained(i))
-        mass += m(i);
+    for (unsigned int c = 0; c < dim; ++c)
+      {
+        Vector<double> ones(n_dofs());
+        for (types::global_dof_index i = 0; i < ones.size(); ++i)
+          ones(i) = (discretization_ptr->dof_component(i) == c) ? 1. : 0.;
+        body_constraints.distribute(ones);
+        Tensor<1, dim> unit;
+        unit[c] = 1.;
+        mass    = std::max(mass, momentum(ones) * unit);
+      }
     return mass;
   }
 

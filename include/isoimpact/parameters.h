@@ -1,0 +1,81 @@
+// Layer 6: the parameters of a scene, read from a .prm file with deal.II's
+// ParameterHandler (step-44 style: one struct per subsection).
+#ifndef isoimpact_parameters_h
+#define isoimpact_parameters_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <isoimpact/assembly.h>
+#include <isoimpact/contact.h>
+#include <isoimpact/discretization.h>
+#include <isoimpact/material.h>
+
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace isoimpact
+{
+  // A bad input: the message names the file, the parameter, the value and
+  // what is allowed.
+  class InputError : public std::runtime_error
+  {
+  public:
+    using std::runtime_error::runtime_error;
+  };
+
+  struct BodyParameters
+  {
+    BodyGeometry    geometry;
+    ElasticMaterial material;
+    Tensor<1, 2>    initial_velocity;
+    bool            symmetry_cut = true;
+  };
+
+  struct Parameters
+  {
+    std::array<BodyParameters, 2> bodies;
+
+    // Discretization
+    std::string  method = "fea";
+    unsigned int degree = 2;
+
+    MassScheme      mass_scheme = MassScheme::hrz;
+    ContactSettings contact;
+
+    double time_step = 5e-4;
+    double end_time  = 0.9;
+
+    // Output
+    std::string         output_directory = "output/hertz";
+    unsigned int        history_interval = 1;
+    unsigned int        vtu_interval     = 100;
+    unsigned int        vtu_subdivisions = 2;
+    std::vector<double> profile_times;
+    std::string         approach_law = "Gerl-Zippelius";
+    double              progress_interval = 10.; // percent of the run
+    double              filter_window     = 0.01;  // s
+
+    // A scene that models a half by symmetry: 2, else 1.
+    double
+    symmetry_factor() const;
+
+    static void
+    declare(ParameterHandler &prm);
+    void
+    parse(ParameterHandler &prm);
+  };
+
+  // Reads and checks a parameter file; throws InputError.
+  Parameters
+  read_parameters(const std::string &filename);
+
+  // A complete default file with the documentation of every parameter.
+  void
+  print_default_parameters(std::ostream &out);
+} // namespace isoimpact
+
+#endif

@@ -1,0 +1,42 @@
+// Layer 6: a scene built from parameters: the bodies, their contact and the
+// analytic reference.
+#ifndef isoimpact_scene_h
+#define isoimpact_scene_h
+
+#include <isoimpact/central_difference.h>
+#include <isoimpact/hertz_reference.h>
+#include <isoimpact/parameters.h>
+
+#include <memory>
+#include <vector>
+
+namespace isoimpact
+{
+  struct Scene
+  {
+    std::vector<std::unique_ptr<ElasticBody<2>>>    bodies;
+    std::vector<std::unique_ptr<PenaltyContact<2>>> contacts;
+    std::vector<ContactInteraction<2>>              interactions;
+
+    // Contact force and energies are reported for the full physical
+    // bodies: the modelled ones times this factor.
+    double symmetry_factor = 1.;
+    // Unit vector along the relative initial velocity of the two bodies:
+    // the contact force reported is the resultant on body 1 along it.
+    Tensor<1, 2> impact_direction;
+    // The quasi-static Hertz impact, if the parameters ask for it.
+    std::unique_ptr<HertzImpactReference> reference;
+
+    std::vector<ElasticBody<2> *>
+    body_pointers() const;
+
+    types::global_dof_index
+    n_dofs() const;
+  };
+
+  // Throws InputError (or deal.II's exceptions for inadmissible lumping).
+  Scene
+  build_scene(const Parameters &parameters);
+} // namespace isoimpact
+
+#endif

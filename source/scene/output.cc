@@ -1,0 +1,129 @@
+// Layer 6: ParaView output.
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/data_postprocessor.h>
+
+#include <isoimpact/output.h>
+
+#include <fstream>
+
+namespace isoimpact
+{
+  namespace
+  {
+    // Stresses (Pa) from the displacement gradient: the in-plane components,
+    // sigma_zz and the von Mises stress.
+    class StressPostprocessor : public DataPostprocessor<2>
+    {
+    public:
+      explicit StressPostprocessor(const ElasticMaterial &material)
+        : material(material)
+      {}
+
+      void
+      evaluate_vector_field(
+        const DataPostprocessorInputs::Vector<2> &inputs,
+        std::vector<Vector<double>> &computed_quantities) const override
+      {
+        for (unsigned int q = 0; q < inputs.solution_gradients.size(); ++q)
+          {
+            SymmetricTensor<2, 2> strain;
+            for (unsigned int i = 0; i < 2; ++i)
+              for (unsigned int j = i; j < 2; ++j)
+                strain[i][j] = 0.5 * (inputs.solution_gradients[q][i][j] +
+                                      inputs.solution_gradients[q][j][i]);
+            const auto   sigma    = material.stress(strain);
+            const double sigma_zz = material.out_of_plane_stress(strain);
+            const double von_mises =
+              std::sqrt(0.5 * ((sigma[0][0] - sigma[1][1]) *
+                                 (sigma[0][0] - sigma[1][1]) +
+                               (sigma[1][1] - sigma_zz) *
+                                 (sigma[1][1] - sigma_zz) +
+                               (sigma_zz - sigma[0][0]) *
+                                 (sigma_zz - sigma[0][0])) +
+                        3. * sigma[0][1] * sigma[0][1]);
+            computed_quantities[q](0) = sigma[0][0];
+            computed_quantities[q](1) = sigma[1][1];
+            computed_quantities[q](2) = sigma[0][1];
+            computed_quantities[q](3) = sigma_zz;
+            computed_quantities[q](4) = von_mises;
+          }
+      }
+
+      std::vector<std::string>
+      get_names() const override
+      {
+        return {"stress_xx_Pa",
+                "stress_yy_Pa",
+                "stress_xy_Pa",
+                "stress_zz_Pa",
+                "von_mises_stress_Pa"};
+      }
+
+      UpdateFlags
+      get_needed_update_flags() const override
+      {
+        return update_gradients;
+      }
+
+    private:
+      const ElasticMaterial material;
+    };
+  } // namespace
+
+  SolutionWriter::SolutionWriter(const std::string &directory,
+                                 const unsigned int n_subdivisions)
+    : directory(directory)
+    , n_subdivisions(n_subdivisions)
+  {}
+
+  std::string
+  SolutionWriter::write(const std::vector<ElasticBody<2> *> &bodies,
+                        const double                        time)
+  {
+    const std::string number = Utilities::int_to_string(counter++, 4);
+    std::vector<std::string> pieces;
+    for (const auto *body : bodies)
+      {
+        const auto &   disc = body->discretization();
+        Vector<double> displacement(disc.get_dof_handler().n_dofs());
+        Vector<double> velocity(disc.get_dof_handler().n_dofs());
+        disc.to_dof_handler_vector(body->displacement, displacement);
+        disc.to_dof_handler_vector(body->velocity, velocity);
+
+        const std::vector<DataComponentInterpretation::DataComponentInterpretation>
+          vector_field(2, DataComponentInterpretation::component_is_part_of_vector);
+        StressPostprocessor stresses(body->material());
+        DataOut<2>          data_out;
+        data_out.attach_dof_handler(disc.get_dof_handler());
+        data_out.add_data_vector(displacement,
+                                 std::vector<std::string>(2, "displacement_m"),
+                                 DataOut<2>::type_dof_data,
+                                 vector_field);
+        data_out.add_data_vector(velocity,
+                                 std::vector<std::string>(2, "velocity_m_per_s"),
+                                 DataOut<2>::type_dof_data,
+                                 vector_field);
+        data_out.add_data_vector(displacement, stresses);
+        data_out.build_patches(disc.get_mapping(),
+                               n_subdivisions,
+                               DataOut<2>::curved_inner_cells);
+        DataOutBase::VtkFlags flags(time);
+        data_out.set_flags(flags);
+
+        const std::string piece = body->name() + "_" + number + ".vtu";
+        std::ofstream     out(directory + "/" + piece);
+        data_out.write_vtu(out);
+        pieces.push_back(piece);
+        if (body == bodies.back())
+          {
+            const std::string pvtu = "solution_" + number + ".pvtu";
+            std::ofstream     record(directory + "/" + pvtu);
+            data_out.write_pvtu_record(record, pieces);
+            times_and_names.emplace_back(time, pvtu);
+          }
+      }
+    std::ofstream pvd(directory + "/solution.pvd");
+    DataOutBase::write_pvd_record(pvd, times_and_names);
+    return times_and_names.back().second;
+  }
+} // namespace isoimpact

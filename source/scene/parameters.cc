@@ -1,0 +1,401 @@
+// Layer 6: parameters.
+#include <deal.II/base/exceptions.h>
+
+#include <isoimpact/hertz_reference.h>
+#include <isoimpact/parameters.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace isoimpact
+{
+  namespace
+  {
+    const char *body_names[2] = {"Body 1", "Body 2"};
+
+    std::string
+    point_string(const Point<2> &p)
+    {
+      std::ostringstream s;
+      s << p[0] << ", " << p[1];
+      return s.str();
+    }
+
+    std::vector<double>
+    parse_doubles(const std::string &text)
+    {
+      return Utilities::string_to_double(
+        Utilities::split_string_list(text, ','));
+    }
+
+    void
+    declare_body(ParameterHandler &prm, const unsigned int b)
+    {
+      prm.enter_subsection(body_names[b]);
+      prm.declare_entry("Shape",
+                        "half disk",
+                        Patterns::Selection("half disk|full disk|rectangle"),
+                        "Shape of the body. A half disk is cut along the "
+                        "vertical line through its centre and keeps x >= "
+                        "centre x; boundary 0 is its arc, 1 its cut. A "
+                        "rectangle has boundaries 0, 1, 2, 3 = left, right, "
+                        "bottom, top.");
+      prm.declare_entry("Center",
+                        b == 0 ? "0, 4" : "0, -4",
+                        Patterns::List(Patterns::Double(), 2, 2),
+                        "Centre of a disk or half disk, m.");
+      prm.declare_entry("Radius",
+                        "4",
+                        Patterns::Double(0.),
+                        "Radius of a disk or half disk, m (> 0).");
+      prm.declare_entry("Lower left corner",
+                        "0, 0",
+                        Patterns::List(Patterns::Double(), 2, 2),
+                        "Rectangle: lower left corner, m.");
+      prm.declare_entry("Upper right corner",
+                        "1, 1",
+                        Patterns::List(Patterns::Double(), 2, 2),
+                        "Rectangle: upper right corner, m.");
+      prm.declare_entry("Initial velocity",
+                        b == 0 ? "0, -2" : "0, 2",
+                        Patterns::List(Patterns::Double(), 2, 2),
+                        "Uniform initial velocity, m/s.");
+      prm.declare_entry("Symmetry cut",
+                        "true",
+                        Patterns::Bool(),
+                        "Half disk: the cut is a symmetry line (roller, "
+                        "u_x = 0). A scene whose bodies are all cut models "
+                        "half of the physical problem: contact force and "
+                        "energies are reported for the full bodies.");
+      prm.enter_subsection("Material");
+      prm.declare_entry("Young's modulus",
+                        "1000",
+                        Patterns::Double(0.),
+                        "E, Pa (> 0). The Hertz benchmark uses E = 1000 Pa: "
+                        "with rho = 1 kg/m^3 the wave speed is 33 m/s and "
+                        "the impact lasts about 0.75 s.");
+      prm.declare_entry("Poisson's ratio",
+                        "0.2",
+                        Patterns::Double(-1., 0.5),
+                        "nu, in (-1, 0.5).");
+      prm.declare_entry("Density", "1", Patterns::Double(0.), "rho, kg/m^3 (> 0).");
+      prm.leave_subsection();
+      prm.leave_subsection();
+    }
+  } // namespace
+
+  double
+  Parameters::symmetry_factor() const
+  {
+    for (const auto &body : bodies)
+      if (!(body.symmetry_cut &&
+            body.geometry.shape == BodyGeometry::Shape::half_disk))
+        return 1.;
+    return 2.;
+  }
+
+  void
+  Parameters::declare(ParameterHandler &prm)
+  {
+    for (unsigned int b = 0; b < 2; ++b)
+      declare_body(prm, b);
+
+    prm.enter_subsection("Model");
+    prm.declare_entry("Plane",
+                      "strain",
+                      Patterns::Selection("strain|stress"),
+                      "Plane strain or plane stress.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Discretization");
+    prm.declare_entry("Method",
+                      "fea",
+                      Patterns::Selection("fea|iga"),
+                      "fea: FE_Q Lagrange elements with MappingQ on exact "
+                      "manifolds; iga: NURBS (exact circles).");
+    prm.declare_entry("Degree",
+                      "2",
+                      Patterns::Integer(1, 6),
+                      "Polynomial degree of the elements or splines.");
+    prm.declare_entry("Global refinements",
+                      "3",
+                      Patterns::Integer(0, 10),
+                      "Uniform refinements of the coarse mesh.");
+    prm.declare_entry("Local refinements",
+                      "0",
+                      Patterns::Integer(0, 10),
+                      "Further refinements of the cells within the "
+                      "refinement radius of the refinement centre.");
+    prm.declare_entry("Refinement center",
+                      "0, 0",
+                      Patterns::List(Patterns::Double(), 2, 2),
+                      "Where contact happens, m.");
+    prm.declare_entry("Refinement radius",
+                      "2",
+                      Patterns::Double(0.),
+                      "Radius of the locally refined zone, m.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Mass matrix");
+    prm.declare_entry("Scheme",
+                      "HRZ",
+                      Patterns::Selection("consistent|row-sum|HRZ"),
+                      "consistent (solved with a factorisation computed "
+                      "once), row-sum or HRZ lumping.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Contact");
+    prm.declare_entry("Penalty",
+                      "1e5",
+                      Patterns::Double(0.),
+                      "eps_N, Pa/m: traction per unit penetration (> 0).");
+    prm.declare_entry("Penalty per pass",
+                      "half",
+                      Patterns::Selection("half|full"),
+                      "Two-pass convention: half puts eps_N/2 on each pass, "
+                      "so that both together act like one penalty eps_N; "
+                      "full puts eps_N on each (effective 2 eps_N).");
+    prm.declare_entry("Quadrature points per face",
+                      "4",
+                      Patterns::Integer(1, 20),
+                      "Gauss points of the contact integral on each face.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Time integration");
+    prm.declare_entry("Time step",
+                      "5e-4",
+                      Patterns::Double(0.),
+                      "Central difference step, s (> 0).");
+    prm.declare_entry("End time", "0.9", Patterns::Double(0.), "s (> 0).");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    prm.declare_entry("Directory",
+                      "output/hertz",
+                      Patterns::Anything(),
+                      "Created when the run starts; relative paths are "
+                      "relative to the working directory.");
+    prm.declare_entry("History interval",
+                      "1",
+                      Patterns::Integer(1),
+                      "Steps between rows of history.csv.");
+    prm.declare_entry("VTU interval",
+                      "100",
+                      Patterns::Integer(0),
+                      "Steps between ParaView outputs (0: none).");
+    prm.declare_entry("VTU subdivisions",
+                      "2",
+                      Patterns::Integer(1, 8),
+                      "Subdivisions of each cell in the ParaView output "
+                      "(curved cells).");
+    prm.declare_entry("Pressure profile times",
+                      "0.375",
+                      Patterns::List(Patterns::Double(0.)),
+                      "Times (s) at which the contact pressure along the "
+                      "surface is written.");
+    prm.declare_entry("Analytic reference",
+                      "Gerl-Zippelius",
+                      Patterns::Selection("Gerl-Zippelius|Johnson|none"),
+                      "Approach law of the quasi-static Hertz impact used "
+                      "for the analytic columns (two disks only).");
+    prm.declare_entry("Filter window",
+                      "0.01",
+                      Patterns::Double(0.),
+                      "Width (s) of the centred moving average applied to "
+                      "the contact force and pressure histories for the "
+                      "filtered peaks of summary.json (raw peaks are given "
+                      "too); history.csv holds the raw signals.");
+    prm.declare_entry("Progress interval",
+                      "10",
+                      Patterns::Double(0., 100.),
+                      "Percent of the run between progress lines.");
+    prm.leave_subsection();
+  }
+
+  void
+  Parameters::parse(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Model");
+    const bool plane_strain = prm.get("Plane") == "strain";
+    prm.leave_subsection();
+
+    prm.enter_subsection("Discretization");
+    method                            = prm.get("Method");
+    degree                            = prm.get_integer("Degree");
+    const unsigned int global         = prm.get_integer("Global refinements");
+    const unsigned int local          = prm.get_integer("Local refinements");
+    const auto         center_values  = parse_doubles(prm.get("Refinement center"));
+    const double       refine_radius  = prm.get_double("Refinement radius");
+    prm.leave_subsection();
+
+    for (unsigned int b = 0; b < 2; ++b)
+      {
+        auto &body = bodies[b];
+        prm.enter_subsection(body_names[b]);
+        const std::string shape = prm.get("Shape");
+        body.geometry.shape =
+          shape == "half disk" ?
+            BodyGeometry::Shape::half_disk :
+            (shape == "full disk" ? BodyGeometry::Shape::full_disk :
+                                    BodyGeometry::Shape::rectangle);
+        const auto c           = parse_doubles(prm.get("Center"));
+        body.geometry.center   = Point<2>(c[0], c[1]);
+        body.geometry.radius   = prm.get_double("Radius");
+        const auto ll          = parse_doubles(prm.get("Lower left corner"));
+        const auto ur          = parse_doubles(prm.get("Upper right corner"));
+        body.geometry.lower_left  = Point<2>(ll[0], ll[1]);
+        body.geometry.upper_right = Point<2>(ur[0], ur[1]);
+        const auto v           = parse_doubles(prm.get("Initial velocity"));
+        body.initial_velocity[0] = v[0];
+        body.initial_velocity[1] = v[1];
+        body.symmetry_cut        = prm.get_bool("Symmetry cut");
+        prm.enter_subsection("Material");
+        body.material.youngs_modulus = prm.get_double("Young's modulus");
+        body.material.poisson_ratio  = prm.get_double("Poisson's ratio");
+        body.material.density        = prm.get_double("Density");
+        body.material.plane_strain   = plane_strain;
+        prm.leave_subsection();
+        prm.leave_subsection();
+
+        body.geometry.global_refinements = global;
+        body.geometry.local_refinements  = local;
+        body.geometry.refinement_center =
+          Point<2>(center_values[0], center_values[1]);
+        body.geometry.refinement_radius = refine_radius;
+      }
+
+    prm.enter_subsection("Mass matrix");
+    mass_scheme = mass_scheme_from_string(prm.get("Scheme"));
+    prm.leave_subsection();
+
+    prm.enter_subsection("Contact");
+    contact.penalty = prm.get_double("Penalty");
+    contact.penalty_per_pass =
+      penalty_per_pass_from_string(prm.get("Penalty per pass"));
+    contact.n_quadrature_points = prm.get_integer("Quadrature points per face");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Time integration");
+    time_step = prm.get_double("Time step");
+    end_time  = prm.get_double("End time");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    output_directory  = prm.get("Directory");
+    history_interval  = prm.get_integer("History interval");
+    vtu_interval      = prm.get_integer("VTU interval");
+    vtu_subdivisions  = prm.get_integer("VTU subdivisions");
+    profile_times     = parse_doubles(prm.get("Pressure profile times"));
+    approach_law      = prm.get("Analytic reference");
+    progress_interval = prm.get_double("Progress interval");
+    filter_window     = prm.get_double("Filter window");
+    prm.leave_subsection();
+  }
+
+  Parameters
+  read_parameters(const std::string &filename)
+  {
+    if (!std::filesystem::is_regular_file(filename))
+      throw InputError("parameter file '" + filename +
+                       "' does not exist or is not a file");
+
+    ParameterHandler prm;
+    Parameters::declare(prm);
+    try
+      {
+        prm.parse_input(filename, "", false, true);
+      }
+    catch (const ExceptionBase &e)
+      {
+        std::ostringstream message;
+        e.print_info(message);
+        throw InputError("in parameter file '" + filename + "': " +
+                         message.str());
+      }
+
+    Parameters parameters;
+    parameters.parse(prm);
+
+    // Values the patterns cannot express.
+    const auto require = [&](const bool         condition,
+                             const std::string &parameter,
+                             const auto &       value,
+                             const std::string &allowed) {
+      if (!condition)
+        {
+          std::ostringstream message;
+          message << "in parameter file '" << filename << "': parameter '"
+                  << parameter << "' has the value " << value << "; "
+                  << allowed;
+          throw InputError(message.str());
+        }
+    };
+    for (unsigned int b = 0; b < 2; ++b)
+      {
+        const auto &       body = parameters.bodies[b];
+        const std::string  s    = std::string(body_names[b]) + "/";
+        require(body.geometry.radius > 0., s + "Radius", body.geometry.radius,
+                "it must be positive");
+        require(body.material.youngs_modulus > 0.,
+                s + "Material/Young's modulus",
+                body.material.youngs_modulus,
+                "it must be positive");
+        require(body.material.density > 0.,
+                s + "Material/Density",
+                body.material.density,
+                "it must be positive");
+        require(body.material.poisson_ratio < 0.5 &&
+                  body.material.poisson_ratio > -1.,
+                s + "Material/Poisson's ratio",
+                body.material.poisson_ratio,
+                "it must lie in (-1, 0.5)");
+        if (body.geometry.shape == BodyGeometry::Shape::rectangle)
+          for (unsigned int d = 0; d < 2; ++d)
+            require(body.geometry.upper_right[d] > body.geometry.lower_left[d],
+                    s + "Upper right corner",
+                    body.geometry.upper_right[d],
+                    "each coordinate must exceed the lower left corner's");
+      }
+    require(parameters.contact.penalty > 0.,
+            "Contact/Penalty",
+            parameters.contact.penalty,
+            "it must be positive");
+    require(parameters.time_step > 0.,
+            "Time integration/Time step",
+            parameters.time_step,
+            "it must be positive");
+    require(parameters.end_time > 0.,
+            "Time integration/End time",
+            parameters.end_time,
+            "it must be positive");
+    require(parameters.time_step <= parameters.end_time,
+            "Time integration/Time step",
+            parameters.time_step,
+            "it must not exceed the end time");
+    require(parameters.method == "fea",
+            "Discretization/Method",
+            parameters.method,
+            "the NURBS discretisation is not yet available in this build; "
+            "allowed: fea");
+    if (parameters.approach_law != "none")
+      for (unsigned int b = 0; b < 2; ++b)
+        require(parameters.bodies[b].geometry.shape !=
+                  BodyGeometry::Shape::rectangle,
+                std::string(body_names[b]) + "/Shape",
+                "rectangle",
+                "the analytic Hertz reference needs disks: set "
+                "Output/Analytic reference = none");
+    return parameters;
+  }
+
+  void
+  print_default_parameters(std::ostream &out)
+  {
+    ParameterHandler prm;
+    Parameters::declare(prm);
+    out << "# isoimpact parameter file with every parameter, its default and "
+           "its documentation.\n";
+    prm.print_parameters(out, ParameterHandler::PRM);
+  }
+} // namespace isoimpact

@@ -1,0 +1,84 @@
+// Layer 6: building a scene.
+#include <isoimpact/scene.h>
+
+namespace isoimpact
+{
+  std::vector<ElasticBody<2> *>
+  Scene::body_pointers() const
+  {
+    std::vector<ElasticBody<2> *> pointers;
+    for (const auto &body : bodies)
+      pointers.push_back(body.get());
+    return pointers;
+  }
+
+  types::global_dof_index
+  Scene::n_dofs() const
+  {
+    types::global_dof_index n = 0;
+    for (const auto &body : bodies)
+      n += body->n_dofs();
+    return n;
+  }
+
+  Scene
+  build_scene(const Parameters &parameters)
+  {
+    Scene scene;
+    scene.symmetry_factor = parameters.symmetry_factor();
+
+    for (unsigned int b = 0; b < 2; ++b)
+      {
+        const auto &body = parameters.bodies[b];
+        std::vector<RollerCondition> rollers;
+        if (body.symmetry_cut &&
+            body.geometry.shape == BodyGeometry::Shape::half_disk)
+          rollers.push_back({BodyGeometry::symmetry_boundary_id, 0});
+        scene.bodies.push_back(std::make_unique<ElasticBody<2>>(
+          "body" + std::to_string(b + 1),
+          create_discretization<2>(parameters.method,
+                                   body.geometry,
+                                   parameters.degree),
+          body.material,
+          parameters.mass_scheme,
+          rollers,
+          body.initial_velocity));
+      }
+
+    // Contact is searched only on the declared surfaces: the arcs.
+    scene.contacts.push_back(std::make_unique<PenaltyContact<2>>(
+      parameters.contact,
+      scene.bodies[0]->discretization().boundary_segments(
+        BodyGeometry::curved_boundary_id),
+      scene.bodies[1]->discretization().boundary_segments(
+        BodyGeometry::curved_boundary_id)));
+    scene.interactions.push_back({scene.contacts.back().get(), 0, 1});
+
+    const Tensor<1, 2> relative_velocity =
+      parameters.bodies[1].initial_velocity -
+      parameters.bodies[0].initial_velocity;
+    if (relative_velocity.norm() > 0.)
+      scene.impact_direction = relative_velocity / relative_velocity.norm();
+    else
+      scene.impact_direction[1] = 1.;
+
+    if (parameters.approach_law != "none")
+      {
+        std::array<ElasticCylinder, 2> cylinders;
+        for (unsigned int b = 0; b < 2; ++b)
+          {
+            const auto &body = parameters.bodies[b];
+            cylinders[b]     = {body.geometry.radius,
+                            body.material.youngs_modulus,
+                            body.material.poisson_ratio,
+                            body.material.density};
+          }
+        scene.reference = std::make_unique<HertzImpactReference>(
+          cylinders[0],
+          cylinders[1],
+          relative_velocity.norm(),
+          approach_law_from_string(parameters.approach_law));
+      }
+    return scene;
+  }
+} // namespace isoimpact
