@@ -134,7 +134,8 @@ namespace isoimpact
       /**
        * The p+1 basis functions non-zero on span at u (Cox-de Boor, The NURBS
        * Book A2.2). u may lie outside the span (polynomial extension).
-       * values must have room for p+1 entries.
+       * values must have room for p+1 entries. This raw-pointer form does
+       * not check span (it is the fast path); the vector form does.
        */
       void
       basis_values(const unsigned int span,

@@ -174,6 +174,8 @@ namespace isoimpact
        * the directions' 1D operators, C(a, b) = prod_d C_d(l_d, k_d) with a,b
        * local lexicographic indices, so that N_a = sum_b C(a,b) B_b with the
        * tensor-product Bernstein polynomials B_b of the reference cell.
+       * Computes the 1D operators of the whole patch on each call: cache the
+       * result when it is needed repeatedly.
        */
       dealii::FullMatrix<double>
       element_extraction_operator(const unsigned int element) const;
