@@ -1,0 +1,35 @@
+## Tests that run the program (driven by Debian's python3, which has vtk).
+find_program(ISOIMPACT_PYTHON python3 PATHS /usr/bin NO_DEFAULT_PATH)
+if(NOT ISOIMPACT_PYTHON)
+  find_program(ISOIMPACT_PYTHON python3)
+endif()
+set(_scripts ${CMAKE_CURRENT_SOURCE_DIR}/scripts)
+set(_work ${CMAKE_CURRENT_BINARY_DIR}/program_tests)
+
+add_test(NAME hertz_fea_hrz_benchmark
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/hertz_benchmark.py
+    $<TARGET_FILE:isoimpact_program>
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm ${_work})
+set_tests_properties(hertz_fea_hrz_benchmark PROPERTIES
+  TIMEOUT 600 FIXTURES_SETUP hertz_output)
+
+add_test(NAME vtu_readback
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/vtu_readback.py
+    ${_work}/hertz_fea_hrz_coarse)
+set_tests_properties(vtu_readback PROPERTIES FIXTURES_REQUIRED hertz_output)
+
+add_test(NAME bad_input
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/bad_input.py
+    $<TARGET_FILE:isoimpact_program>
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm ${_work}/bad_input)
+
+# A user's program built against the exported package, as a user would.
+add_test(NAME example_builds_against_library
+  COMMAND ${CMAKE_CTEST_COMMAND}
+    --build-and-test ${CMAKE_SOURCE_DIR}/examples/elastic_wave
+                     ${CMAKE_CURRENT_BINARY_DIR}/example_elastic_wave
+    --build-generator ${CMAKE_GENERATOR}
+    --build-options -Disoimpact_DIR=${CMAKE_BINARY_DIR}
+                    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
+    --test-command elastic_wave)
+set_tests_properties(example_builds_against_library PROPERTIES TIMEOUT 900)
