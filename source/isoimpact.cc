@@ -61,7 +61,7 @@ namespace isoimpact
   class ImpactProgram
   {
   public:
-    ImpactProgram(const Parameters &parameters,
+    ImpactProgram(const Parameters  &parameters,
                   const std::string &parameter_file);
     void
     run();
@@ -88,26 +88,26 @@ namespace isoimpact
     ConditionalOStream pcout;
     TimerOutput        timer;
 
-    Scene                               scene;
+    Scene                                 scene;
     std::unique_ptr<CentralDifference<2>> integrator;
-    std::unique_ptr<SolutionWriter>     solution_writer;
-    std::ofstream                       history;
-    double                              critical_time_step = 0.;
-    unsigned int                        n_steps            = 0;
-    unsigned int                        next_profile       = 0;
+    std::unique_ptr<SolutionWriter>       solution_writer;
+    std::ofstream                         history;
+    double                                critical_time_step = 0.;
+    unsigned int                          n_steps            = 0;
+    unsigned int                          next_profile       = 0;
 
     // Running figures for the summary.
-    double       initial_energy    = 0.;
-    double       max_energy_error  = 0.;
-    double       peak_force        = 0.;
-    double       time_of_peak      = 0.;
-    double       peak_pressure     = 0.;
-    double       first_contact     = -1.;
-    double       last_contact      = -1.;
-    double       current_force     = 0.;
-    double       current_pressure  = 0.;
-    double       current_energy_error = 0.;
-    Timer        wall_clock;
+    double initial_energy       = 0.;
+    double max_energy_error     = 0.;
+    double peak_force           = 0.;
+    double time_of_peak         = 0.;
+    double peak_pressure        = 0.;
+    double first_contact        = -1.;
+    double last_contact         = -1.;
+    double current_force        = 0.;
+    double current_pressure     = 0.;
+    double current_energy_error = 0.;
+    Timer  wall_clock;
     // Every step's contact force and maximal pressure, for the filtered
     // peaks of the summary.
     std::vector<double> force_history, pressure_history;
@@ -121,7 +121,7 @@ namespace isoimpact
   // patches), unknowns and constraints, stiffness and mass matrices, lumping,
   // the factorisation of a consistent mass, and the contact surfaces. Bad
   // input is detected here, before anything is written to disk.
-  ImpactProgram::ImpactProgram(const Parameters & parameters,
+  ImpactProgram::ImpactProgram(const Parameters  &parameters,
                                const std::string &parameter_file)
     : parameters(parameters)
     , parameter_file(parameter_file)
@@ -136,14 +136,14 @@ namespace isoimpact
   {
     pcout << "isoimpact: " << parameter_file << '\n';
     for (const auto &body : scene.bodies)
-      pcout << "  " << body->name() << ": "
-            << body->discretization().name() << ", "
+      pcout << "  " << body->name() << ": " << body->discretization().name()
+            << ", "
             << body->discretization().get_triangulation().n_active_cells()
             << " cells, " << body->n_dofs() << " unknowns, mass "
-            << body->total_mass() << " kg/m ("
-            << to_string(body->mass_scheme()) << ")\n";
-    pcout << "  contact: penalty " << parameters.contact.penalty
-          << " Pa/m, " << parameters.contact.n_quadrature_points
+            << body->total_mass() << " kg/m (" << to_string(body->mass_scheme())
+            << ")\n";
+    pcout << "  contact: penalty " << parameters.contact.penalty << " Pa/m, "
+          << parameters.contact.n_quadrature_points
           << " Gauss points per face, penalty per pass "
           << scene.contacts[0]->penalty_per_pass() << " Pa/m\n";
     if (scene.symmetry_factor != 1.)
@@ -173,9 +173,10 @@ namespace isoimpact
   {
     const std::string &directory = parameters.output_directory;
     std::filesystem::create_directories(directory);
-    std::filesystem::copy_file(parameter_file,
-                               directory + "/parameters.prm",
-                               std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::copy_file(
+      parameter_file,
+      directory + "/parameters.prm",
+      std::filesystem::copy_options::overwrite_existing);
     solution_writer =
       std::make_unique<SolutionWriter>(directory, parameters.vtu_subdivisions);
 
@@ -211,13 +212,13 @@ namespace isoimpact
   ImpactProgram::record(const bool write_solution, const bool write_profile)
   {
     const double t      = integrator->time();
-    const auto & result = integrator->contact_results()[0];
+    const auto  &result = integrator->contact_results()[0];
     const double factor = scene.symmetry_factor;
 
     AssertThrow(std::isfinite(result.force_on_first_surface.norm()),
                 ExcMessage(unstable_message()));
-    current_force    = factor * (result.force_on_first_surface *
-                              scene.impact_direction);
+    current_force =
+      factor * (result.force_on_first_surface * scene.impact_direction);
     current_pressure = result.max_pressure;
     if (current_force > peak_force)
       {
@@ -274,9 +275,9 @@ namespace isoimpact
   ImpactProgram::unstable_message() const
   {
     return "the solution became non-finite at step " +
-           std::to_string(integrator->step_number()) + " (t = " +
-           std::to_string(integrator->time()) + " s): the time step " +
-           std::to_string(parameters.time_step) +
+           std::to_string(integrator->step_number()) +
+           " (t = " + std::to_string(integrator->time()) +
+           " s): the time step " + std::to_string(parameters.time_step) +
            " s is probably above the critical step (estimated " +
            std::to_string(critical_time_step) +
            " s without contact; penalty contact lowers it further)";
@@ -297,14 +298,15 @@ namespace isoimpact
     });
 
     std::ostringstream name;
-    name << parameters.output_directory << "/contact_pressure_t"
-         << std::fixed << std::setprecision(4) << t << ".csv";
+    name << parameters.output_directory << "/contact_pressure_t" << std::fixed
+         << std::setprecision(4) << t << ".csv";
     std::ofstream out(name.str());
     out << "# contact pressure along the contact surface at t = " << t
         << " s\n# units: position [m] (reference position across the line "
            "of impact), pressure [Pa]; surface: 1 or 2 (the body whose "
            "Gauss point it is)\nposition,pressure,surface";
-    const double force = scene.reference ? scene.reference->contact_force(t) : 0.;
+    const double force =
+      scene.reference ? scene.reference->contact_force(t) : 0.;
     if (scene.reference)
       out << ",analytic_pressure";
     out << '\n' << std::setprecision(10);
@@ -356,14 +358,15 @@ namespace isoimpact
     std::pair<double, unsigned int>
     filtered_peak(const std::vector<double> &signal, const unsigned int width)
     {
-      const int   half = width / 2, n = signal.size();
-      double      best = 0.;
-      unsigned    best_index = 0;
+      const int half = width / 2, n = signal.size();
+      double    best       = 0.;
+      unsigned  best_index = 0;
       for (int i = 0; i < n; ++i)
         {
-          double sum = 0.;
+          double sum   = 0.;
           int    count = 0;
-          for (int j = std::max(0, i - half); j <= std::min(n - 1, i + half); ++j)
+          for (int j = std::max(0, i - half); j <= std::min(n - 1, i + half);
+               ++j)
             sum += signal[j], ++count;
           if (sum / count > best)
             best = sum / count, best_index = i;
@@ -377,14 +380,14 @@ namespace isoimpact
   {
     const double duration =
       (first_contact >= 0.) ? last_contact - first_contact : 0.;
-    const unsigned int width = std::max(
-      1u,
-      static_cast<unsigned int>(
-        std::round(parameters.filter_window / parameters.time_step)));
-    const auto filtered_force    = filtered_peak(force_history, width);
-    const auto filtered_pressure = filtered_peak(pressure_history, width);
-    const double filtered_time   = filtered_force.second * parameters.time_step;
-    const std::string path = parameters.output_directory + "/summary.json";
+    const unsigned int width =
+      std::max(1u,
+               static_cast<unsigned int>(
+                 std::round(parameters.filter_window / parameters.time_step)));
+    const auto   filtered_force    = filtered_peak(force_history, width);
+    const auto   filtered_pressure = filtered_peak(pressure_history, width);
+    const double filtered_time = filtered_force.second * parameters.time_step;
+    const std::string path     = parameters.output_directory + "/summary.json";
     {
       std::ofstream out(path + ".tmp");
       out << std::setprecision(10) << "{\n"
@@ -397,7 +400,10 @@ namespace isoimpact
           << "  \"cells\": [";
       for (unsigned int b = 0; b < scene.bodies.size(); ++b)
         out << (b ? ", " : "")
-            << scene.bodies[b]->discretization().get_triangulation().n_active_cells();
+            << scene.bodies[b]
+                 ->discretization()
+                 .get_triangulation()
+                 .n_active_cells();
       out << "],\n"
           << "  \"vtu_subdivisions\": " << parameters.vtu_subdivisions << ",\n"
           << "  \"time_step_s\": " << parameters.time_step << ",\n"
@@ -489,15 +495,16 @@ namespace isoimpact
   {
     {
       TimerOutput::Scope scope(timer, "set-up: meshes, matrices, contact");
-      scene = build_scene(parameters);
+      scene              = build_scene(parameters);
       critical_time_step = std::numeric_limits<double>::max();
       for (const auto &body : scene.bodies)
         critical_time_step =
           std::min(critical_time_step, body->estimate_critical_time_step());
       n_steps = static_cast<unsigned int>(
         std::ceil(parameters.end_time / parameters.time_step - 1e-9));
-      integrator = std::make_unique<CentralDifference<2>>(
-        scene.body_pointers(), scene.interactions, parameters.time_step);
+      integrator = std::make_unique<CentralDifference<2>>(scene.body_pointers(),
+                                                          scene.interactions,
+                                                          parameters.time_step);
     }
     print_setup();
     open_output();
@@ -516,9 +523,10 @@ namespace isoimpact
 
     integrator->initialize(true);
     record(is_vtu_step(0), false);
-    const unsigned int progress_every = std::max(
-      1u,
-      static_cast<unsigned int>(n_steps * parameters.progress_interval / 100.));
+    const unsigned int progress_every =
+      std::max(1u,
+               static_cast<unsigned int>(n_steps *
+                                         parameters.progress_interval / 100.));
     for (unsigned int step = 1; step <= n_steps; ++step)
       {
         const double next_time = step * parameters.time_step;
@@ -541,8 +549,8 @@ namespace isoimpact
     history.close();
     write_summary();
 
-    pcout << "  peak contact force " << peak_force << " N/m at t = "
-          << time_of_peak << " s";
+    pcout << "  peak contact force " << peak_force
+          << " N/m at t = " << time_of_peak << " s";
     if (scene.reference)
       pcout << " (analytic " << scene.reference->peak_force() << " N/m at "
             << scene.reference->time_of_peak() << " s)";

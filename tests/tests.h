@@ -38,10 +38,10 @@ namespace isoimpact_tests
     ++checks();
     const double scale = absolute ? absolute_tolerance : std::abs(expected);
     const double error = std::abs(value - expected);
-    const bool   ok = std::isfinite(value) && error <= relative_tolerance * scale;
-    std::cout << (ok ? "ok   " : "FAIL ") << what << ": " << std::setprecision(12)
-              << value << " expected " << expected << " (error "
-              << std::setprecision(3) << error << ", allowed "
+    const bool ok = std::isfinite(value) && error <= relative_tolerance * scale;
+    std::cout << (ok ? "ok   " : "FAIL ") << what << ": "
+              << std::setprecision(12) << value << " expected " << expected
+              << " (error " << std::setprecision(3) << error << ", allowed "
               << relative_tolerance * scale << ")" << std::endl;
     if (!ok)
       ++failures();
@@ -62,8 +62,8 @@ namespace isoimpact_tests
   inline int
   report()
   {
-    std::cout << checks() - failures() << " passed, " << failures()
-              << " failed" << std::endl;
+    std::cout << checks() - failures() << " passed, " << failures() << " failed"
+              << std::endl;
     return failures() == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
   }
 } // namespace isoimpact_tests
@@ -71,7 +71,13 @@ namespace isoimpact_tests
 #define CHECK_CLOSE(value, expected, tolerance) \
   isoimpact_tests::check_close(#value, (value), (expected), (tolerance))
 #define CHECK_CLOSE_ABS(value, expected, tolerance) \
-  isoimpact_tests::check_close(#value, (value), (expected), 1., (tolerance), true)
-#define CHECK_TRUE(condition) isoimpact_tests::check_true(#condition, (condition))
+  isoimpact_tests::check_close(#value,              \
+                               (value),             \
+                               (expected),          \
+                               1.,                  \
+                               (tolerance),         \
+                               true)
+#define CHECK_TRUE(condition) \
+  isoimpact_tests::check_true(#condition, (condition))
 
 #endif

@@ -31,7 +31,7 @@ main()
       body.velocity(i) =
         std::sin(M_PI * body.discretization().dof_position(i)[1]);
 
-  const double dt = 0.5 * body.estimate_critical_time_step();
+  const double         dt = 0.5 * body.estimate_critical_time_step();
   CentralDifference<2> integrator({&body}, {}, dt);
   integrator.initialize();
   const double initial = integrator.energy_balance().total();

@@ -28,23 +28,23 @@ namespace isoimpact
 
   template <int dim>
   void
-  make_sparsity_pattern(const Discretization<dim> &      discretization,
+  make_sparsity_pattern(const Discretization<dim>       &discretization,
                         const AffineConstraints<double> &constraints,
-                        SparsityPattern &                sparsity_pattern);
+                        SparsityPattern                 &sparsity_pattern);
 
   template <int dim>
   void
-  assemble_stiffness_matrix(const Discretization<dim> &      discretization,
-                            const ElasticMaterial &          material,
+  assemble_stiffness_matrix(const Discretization<dim>       &discretization,
+                            const ElasticMaterial           &material,
                             const AffineConstraints<double> &constraints,
-                            SparseMatrix<double> &           stiffness_matrix);
+                            SparseMatrix<double>            &stiffness_matrix);
 
   template <int dim>
   void
-  assemble_consistent_mass_matrix(const Discretization<dim> &      discretization,
-                                  const double                     density,
+  assemble_consistent_mass_matrix(const Discretization<dim> &discretization,
+                                  const double               density,
                                   const AffineConstraints<double> &constraints,
-                                  SparseMatrix<double> &           mass_matrix);
+                                  SparseMatrix<double>            &mass_matrix);
 
   /**
    * Lumped (diagonal) mass, row-sum or HRZ, computed per element in the
@@ -54,7 +54,7 @@ namespace isoimpact
    */
   template <int dim>
   Vector<double>
-  assemble_lumped_mass(const Discretization<dim> &      discretization,
+  assemble_lumped_mass(const Discretization<dim>       &discretization,
                        const double                     density,
                        const MassScheme                 scheme,
                        const AffineConstraints<double> &constraints);

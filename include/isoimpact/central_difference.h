@@ -39,9 +39,9 @@ namespace isoimpact
   class CentralDifference
   {
   public:
-    CentralDifference(const std::vector<ElasticBody<dim> *> &      bodies,
+    CentralDifference(const std::vector<ElasticBody<dim> *>      &bodies,
                       const std::vector<ContactInteraction<dim>> &contacts,
-                      const double                                 time_step);
+                      const double                                time_step);
 
     // Computes a^0 and v^{1/2} from the bodies' initial state.
     void
@@ -70,14 +70,14 @@ namespace isoimpact
     void
     compute_accelerations(const bool record_contact_points);
 
-    std::vector<ElasticBody<dim> *>       bodies;
-    std::vector<ContactInteraction<dim>>  contacts;
-    double                                dt;
-    double                                current_time = 0.;
-    unsigned int                          step         = 0;
-    std::vector<Vector<double>>           half_step_velocity;
-    std::vector<Vector<double>>           forces;
-    std::vector<ContactResult<dim>>       results;
+    std::vector<ElasticBody<dim> *>      bodies;
+    std::vector<ContactInteraction<dim>> contacts;
+    double                               dt;
+    double                               current_time = 0.;
+    unsigned int                         step         = 0;
+    std::vector<Vector<double>>          half_step_velocity;
+    std::vector<Vector<double>>          forces;
+    std::vector<ContactResult<dim>>      results;
   };
 } // namespace isoimpact
 

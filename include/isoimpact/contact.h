@@ -51,10 +51,10 @@ namespace isoimpact
   template <int dim>
   struct ContactResult
   {
-    double         energy       = 0.; // J/m (per unit thickness)
-    double         max_pressure = 0.; // Pa
-    Tensor<1, dim> force_on_first_surface; // N/m, resultant
-    unsigned int   n_active_points = 0;
+    double                         energy = 0.; // J/m (per unit thickness)
+    double                         max_pressure = 0.;      // Pa
+    Tensor<1, dim>                 force_on_first_surface; // N/m, resultant
+    unsigned int                   n_active_points = 0;
     std::vector<ContactPoint<dim>> points;
   };
 
@@ -62,7 +62,7 @@ namespace isoimpact
   class PenaltyContact
   {
   public:
-    PenaltyContact(const ContactSettings &           settings,
+    PenaltyContact(const ContactSettings            &settings,
                    std::vector<BoundarySegment<dim>> first_surface,
                    std::vector<BoundarySegment<dim>> second_surface);
     ~PenaltyContact();
@@ -72,8 +72,8 @@ namespace isoimpact
     ContactResult<dim>
     add_forces(const Vector<double> &u_first,
                const Vector<double> &u_second,
-               Vector<double> &      f_first,
-               Vector<double> &      f_second,
+               Vector<double>       &f_first,
+               Vector<double>       &f_second,
                const bool            record_points = false) const;
 
     double
@@ -85,7 +85,7 @@ namespace isoimpact
 
   private:
     struct Surface;
-    ContactSettings                        settings;
+    ContactSettings                         settings;
     std::array<std::unique_ptr<Surface>, 2> surfaces;
   };
 } // namespace isoimpact

@@ -65,8 +65,8 @@ namespace isoimpact
   void
   evaluate_segment_basis(const BoundarySegment<dim> &segment,
                          const double                eta,
-                         std::vector<double> &       values,
-                         std::vector<double> &       derivatives);
+                         std::vector<double>        &values,
+                         std::vector<double>        &derivatives);
 
   /**
    * Sets BoundarySegment::free_end by matching the end points of the
@@ -97,10 +97,10 @@ namespace isoimpact
       full_disk,
       rectangle
     };
-    Shape        shape  = Shape::half_disk;
-    Point<2>     center = Point<2>(0., 4.);
-    double       radius = 4.;
-    Point<2>     lower_left, upper_right; // for rectangles
+    Shape    shape  = Shape::half_disk;
+    Point<2> center = Point<2>(0., 4.);
+    double   radius = 4.;
+    Point<2> lower_left, upper_right; // for rectangles
     // Refinement: global levels, then local levels near `refinement_center`
     // within `refinement_radius` (FEA: cells; IGA: graded knots).
     unsigned int global_refinements = 3;
@@ -152,7 +152,7 @@ namespace isoimpact
 
     // The unknowns of the cell's shape functions, in the element's order.
     virtual void
-    get_dof_indices(const cell_iterator &                 cell,
+    get_dof_indices(const cell_iterator                  &cell,
                     std::vector<types::global_dof_index> &indices) const = 0;
 
     // Component (0..dim-1) of each unknown.
@@ -184,7 +184,7 @@ namespace isoimpact
     // DataOut and for evaluation with FEValues.
     virtual void
     to_dof_handler_vector(const Vector<double> &unknowns,
-                          Vector<double> &      dof_handler_vector) const = 0;
+                          Vector<double>       &dof_handler_vector) const = 0;
   };
 
   /**
@@ -193,7 +193,7 @@ namespace isoimpact
    */
   template <int dim>
   std::unique_ptr<Discretization<dim>>
-  create_discretization(const std::string & kind,
+  create_discretization(const std::string  &kind,
                         const BodyGeometry &geometry,
                         const unsigned int  degree);
 } // namespace isoimpact

@@ -37,8 +37,9 @@ namespace isoimpact
     types::global_dof_index
     n_dofs() const override;
     void
-    get_dof_indices(const cell_iterator &                 cell,
-                    std::vector<types::global_dof_index> &indices) const override;
+    get_dof_indices(
+      const cell_iterator                  &cell,
+      std::vector<types::global_dof_index> &indices) const override;
     unsigned int
     dof_component(const types::global_dof_index dof) const override;
     Point<dim>
@@ -60,14 +61,14 @@ namespace isoimpact
     void
     make_mesh(const BodyGeometry &geometry);
 
-    Triangulation<dim>                        triangulation;
-    TransfiniteInterpolationManifold<dim>     interior_manifold;
-    FESystem<dim>                             fe;
-    MappingQ<dim>                             mapping;
-    QGauss<dim>                               cell_quadrature;
-    DoFHandler<dim>                           dof_handler;
-    std::vector<Point<dim>>                   support_points;
-    std::vector<unsigned char>                components;
+    Triangulation<dim>                    triangulation;
+    TransfiniteInterpolationManifold<dim> interior_manifold;
+    FESystem<dim>                         fe;
+    MappingQ<dim>                         mapping;
+    QGauss<dim>                           cell_quadrature;
+    DoFHandler<dim>                       dof_handler;
+    std::vector<Point<dim>>               support_points;
+    std::vector<unsigned char>            components;
   };
 } // namespace isoimpact
 

@@ -24,12 +24,12 @@ namespace isoimpact
   class ElasticBody
   {
   public:
-    ElasticBody(const std::string &                  name,
+    ElasticBody(const std::string                   &name,
                 std::unique_ptr<Discretization<dim>> discretization,
-                const ElasticMaterial &              material,
+                const ElasticMaterial               &material,
                 const MassScheme                     mass_scheme,
-                const std::vector<RollerCondition> & rollers,
-                const Tensor<1, dim> &               initial_velocity);
+                const std::vector<RollerCondition>  &rollers,
+                const Tensor<1, dim>                &initial_velocity);
 
     const std::string &
     name() const;
@@ -52,8 +52,8 @@ namespace isoimpact
      */
     void
     compute_acceleration(const Vector<double> &u,
-                         Vector<double> &      f,
-                         Vector<double> &      a) const;
+                         Vector<double>       &f,
+                         Vector<double>       &a) const;
 
     // Energies per unit thickness (J/m) and momentum (kg/s per m) of the
     // modelled body, with the mass matrix in use.

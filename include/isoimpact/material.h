@@ -14,7 +14,7 @@ namespace isoimpact
   {
     double youngs_modulus = 1000.; // Pa
     double poisson_ratio  = 0.2;
-    double density        = 1.;    // kg/m^3
+    double density        = 1.; // kg/m^3
     bool   plane_strain   = true;
 
     double
@@ -44,8 +44,7 @@ namespace isoimpact
     SymmetricTensor<2, dim>
     stress(const SymmetricTensor<2, dim> &strain) const
     {
-      return lame_lambda() * trace(strain) *
-               unit_symmetric_tensor<dim>() +
+      return lame_lambda() * trace(strain) * unit_symmetric_tensor<dim>() +
              2. * lame_mu() * strain;
     }
 

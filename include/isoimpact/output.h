@@ -23,9 +23,9 @@ namespace isoimpact
     write(const std::vector<ElasticBody<2> *> &bodies, const double time);
 
   private:
-    std::string                                directory;
-    unsigned int                               n_subdivisions;
-    unsigned int                               counter = 0;
+    std::string                                 directory;
+    unsigned int                                n_subdivisions;
+    unsigned int                                counter = 0;
     std::vector<std::pair<double, std::string>> times_and_names;
   };
 } // namespace isoimpact

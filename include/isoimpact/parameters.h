@@ -55,9 +55,9 @@ namespace isoimpact
     unsigned int        vtu_interval     = 100;
     unsigned int        vtu_subdivisions = 2;
     std::vector<double> profile_times;
-    std::string         approach_law = "Gerl-Zippelius";
-    double              progress_interval = 10.; // percent of the run
-    double              filter_window     = 0.01;  // s
+    std::string         approach_law      = "Gerl-Zippelius";
+    double              progress_interval = 10.;  // percent of the run
+    double              filter_window     = 0.01; // s
 
     // A scene that models a half by symmetry: 2, else 1.
     double

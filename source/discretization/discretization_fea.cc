@@ -158,7 +158,7 @@ namespace isoimpact
   template <int dim>
   void
   DiscretizationFEA<dim>::get_dof_indices(
-    const cell_iterator &                 cell,
+    const cell_iterator                  &cell,
     std::vector<types::global_dof_index> &indices) const
   {
     indices.resize(fe.n_dofs_per_cell());
@@ -167,8 +167,7 @@ namespace isoimpact
 
   template <int dim>
   unsigned int
-  DiscretizationFEA<dim>::dof_component(
-    const types::global_dof_index dof) const
+  DiscretizationFEA<dim>::dof_component(const types::global_dof_index dof) const
   {
     return components[dof];
   }
@@ -212,12 +211,13 @@ namespace isoimpact
   {
     AssertThrow(dim == 2,
                 ExcMessage("boundary segments are implemented for dim = 2"));
-    const unsigned int      degree   = fe.base_element(0).degree;
-    const unsigned int      n_points = degree + 1;
+    const unsigned int          degree   = fe.base_element(0).degree;
+    const unsigned int          n_points = degree + 1;
     std::vector<Point<dim - 1>> points(n_points);
     for (unsigned int j = 0; j < n_points; ++j)
       points[j][0] = double(j) / degree;
-    const Quadrature<dim - 1> sampling(points, std::vector<double>(n_points, 1.));
+    const Quadrature<dim - 1> sampling(points,
+                                       std::vector<double>(n_points, 1.));
     FEFaceValues<dim>         fe_face_values(mapping,
                                      fe,
                                      sampling,
@@ -226,7 +226,7 @@ namespace isoimpact
 
     std::vector<BoundarySegment<dim>>    segments;
     std::vector<types::global_dof_index> indices(fe.n_dofs_per_cell());
-    const auto &scalar_fe = fe.base_element(0);
+    const auto                          &scalar_fe = fe.base_element(0);
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
         if (cell->face(f)->at_boundary() &&
@@ -243,7 +243,7 @@ namespace isoimpact
                 face_functions.push_back(i);
 
             BoundarySegment<dim> segment;
-            segment.degree = degree;
+            segment.degree             = degree;
             const unsigned int n_nodes = face_functions.size();
             segment.node_dofs.resize(n_nodes);
             segment.node_positions.resize(n_nodes);
@@ -259,7 +259,8 @@ namespace isoimpact
                     {
                       segment.node_positions[k] = support_points[indices[i]];
                       for (unsigned int j = 0; j < n_points; ++j)
-                        values(k, j) = fe_face_values.shape_value_component(i, j, 0);
+                        values(k, j) =
+                          fe_face_values.shape_value_component(i, j, 0);
                     }
                 }
             segment.bernstein_coefficients =
@@ -288,7 +289,7 @@ namespace isoimpact
   void
   DiscretizationFEA<dim>::to_dof_handler_vector(
     const Vector<double> &unknowns,
-    Vector<double> &      dof_handler_vector) const
+    Vector<double>       &dof_handler_vector) const
   {
     dof_handler_vector = unknowns;
   }

@@ -44,9 +44,9 @@ namespace isoimpact
 
   template <int dim>
   void
-  make_sparsity_pattern(const Discretization<dim> &      discretization,
+  make_sparsity_pattern(const Discretization<dim>       &discretization,
                         const AffineConstraints<double> &constraints,
-                        SparsityPattern &                sparsity_pattern)
+                        SparsityPattern                 &sparsity_pattern)
   {
     DynamicSparsityPattern               dsp(discretization.n_dofs());
     std::vector<types::global_dof_index> indices;
@@ -65,13 +65,13 @@ namespace isoimpact
     // to the constraints for condensation into the global matrix.
     template <int dim, typename LocalAssembler>
     void
-    assemble_matrix(const Discretization<dim> &      discretization,
+    assemble_matrix(const Discretization<dim>       &discretization,
                     const UpdateFlags                flags,
                     const AffineConstraints<double> &constraints,
-                    SparseMatrix<double> &           matrix,
-                    const LocalAssembler &           local)
+                    SparseMatrix<double>            &matrix,
+                    const LocalAssembler            &local)
     {
-      const auto &       fe = discretization.get_fe();
+      const auto        &fe = discretization.get_fe();
       FEValues<dim>      fe_values(discretization.get_mapping(),
                               fe,
                               discretization.get_cell_quadrature(),
@@ -95,16 +95,16 @@ namespace isoimpact
     void
     local_mass_matrix(const FEValues<dim> &fe_values,
                       const double         density,
-                      FullMatrix<double> & cell_matrix)
+                      FullMatrix<double>  &cell_matrix)
     {
       const auto &fe = fe_values.get_fe();
       for (const unsigned int q : fe_values.quadrature_point_indices())
         for (const unsigned int i : fe_values.dof_indices())
           {
             const unsigned int ci = fe.system_to_component_index(i).first;
-            const double       rho_phi_i =
-              density * fe_values.shape_value_component(i, q, ci) *
-              fe_values.JxW(q);
+            const double       rho_phi_i = density *
+                                     fe_values.shape_value_component(i, q, ci) *
+                                     fe_values.JxW(q);
             for (const unsigned int j : fe_values.dof_indices())
               if (fe.system_to_component_index(j).first == ci)
                 cell_matrix(i, j) +=
@@ -115,10 +115,10 @@ namespace isoimpact
 
   template <int dim>
   void
-  assemble_stiffness_matrix(const Discretization<dim> &      discretization,
-                            const ElasticMaterial &          material,
+  assemble_stiffness_matrix(const Discretization<dim>       &discretization,
+                            const ElasticMaterial           &material,
                             const AffineConstraints<double> &constraints,
-                            SparseMatrix<double> &           stiffness_matrix)
+                            SparseMatrix<double>            &stiffness_matrix)
   {
     const FEValuesExtractors::Vector     displacement(0);
     std::vector<SymmetricTensor<2, dim>> strain;
@@ -149,36 +149,36 @@ namespace isoimpact
   assemble_consistent_mass_matrix(const Discretization<dim> &discretization,
                                   const double               density,
                                   const AffineConstraints<double> &constraints,
-                                  SparseMatrix<double> &           mass_matrix)
+                                  SparseMatrix<double>            &mass_matrix)
   {
     assemble_matrix<dim>(discretization,
                          update_values,
                          constraints,
                          mass_matrix,
                          [&](const FEValues<dim> &fe_values,
-                             FullMatrix<double> & cell_matrix) {
+                             FullMatrix<double>  &cell_matrix) {
                            local_mass_matrix(fe_values, density, cell_matrix);
                          });
   }
 
   template <int dim>
   Vector<double>
-  assemble_lumped_mass(const Discretization<dim> &      discretization,
+  assemble_lumped_mass(const Discretization<dim>       &discretization,
                        const double                     density,
                        const MassScheme                 scheme,
                        const AffineConstraints<double> &constraints)
   {
     AssertThrow(scheme != MassScheme::consistent,
                 ExcMessage("assemble_lumped_mass needs row-sum or HRZ"));
-    const auto &       fe = discretization.get_fe();
-    FEValues<dim>      fe_values(discretization.get_mapping(),
+    const auto                          &fe = discretization.get_fe();
+    FEValues<dim>                        fe_values(discretization.get_mapping(),
                             fe,
                             discretization.get_cell_quadrature(),
                             update_values | update_JxW_values);
-    const unsigned int n = fe.n_dofs_per_cell();
-    FullMatrix<double> cell_matrix(n, n);
-    Vector<double>     cell_mass(n);
-    Vector<double>     lumped(discretization.n_dofs());
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    FullMatrix<double>                   cell_matrix(n, n);
+    Vector<double>                       cell_mass(n);
+    Vector<double>                       lumped(discretization.n_dofs());
     std::vector<types::global_dof_index> indices;
     for (const auto &cell :
          discretization.get_dof_handler().active_cell_iterators())
@@ -219,7 +219,8 @@ namespace isoimpact
               std::ostringstream message;
               message << to_string(scheme)
                       << " mass lumping gives the non-positive mass "
-                      << cell_mass(i) << " kg/m (" << cell_mass(i) / element_mass
+                      << cell_mass(i) << " kg/m ("
+                      << cell_mass(i) / element_mass
                       << " of the element mass) to local function " << i
                       << " of element " << cell->id()
                       << " of the discretisation " << discretization.name()

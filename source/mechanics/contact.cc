@@ -50,7 +50,7 @@ namespace isoimpact
 
     // Scratch of one evaluation: current node positions per segment and the
     // R-tree of their bounding boxes.
-    mutable std::vector<std::vector<Point<dim>>>           current_nodes;
+    mutable std::vector<std::vector<Point<dim>>> current_nodes;
     mutable bgi::rtree<std::pair<Box, unsigned int>, bgi::quadratic<16>> tree;
 
     Surface(std::vector<BoundarySegment<dim>> segments_in,
@@ -89,7 +89,7 @@ namespace isoimpact
       for (unsigned int s = 0; s < segments.size(); ++s)
         {
           const auto &segment = segments[s];
-          auto &      nodes   = current_nodes[s];
+          auto       &nodes   = current_nodes[s];
           nodes.resize(segment.node_positions.size());
           Point<dim> lower, upper;
           for (unsigned int d = 0; d < dim; ++d)
@@ -101,8 +101,8 @@ namespace isoimpact
             {
               for (unsigned int d = 0; d < dim; ++d)
                 {
-                  nodes[k][d] = segment.node_positions[k][d] +
-                                u(segment.node_dofs[k][d]);
+                  nodes[k][d] =
+                    segment.node_positions[k][d] + u(segment.node_dofs[k][d]);
                   lower[d] = std::min(lower[d], nodes[k][d]);
                   upper[d] = std::max(upper[d], nodes[k][d]);
                 }
@@ -110,11 +110,10 @@ namespace isoimpact
           // Lagrange curves may leave the hull of their nodes, and a
           // penetrating point lies inside the other body: inflate the box.
           const double margin = 0.5 * reference_lengths[s];
-          boxes.emplace_back(Box(BoostPoint(lower[0] - margin,
-                                            lower[1] - margin),
-                                 BoostPoint(upper[0] + margin,
-                                            upper[1] + margin)),
-                             s);
+          boxes.emplace_back(
+            Box(BoostPoint(lower[0] - margin, lower[1] - margin),
+                BoostPoint(upper[0] + margin, upper[1] + margin)),
+            s);
         }
       tree = decltype(tree)(boxes.begin(), boxes.end()); // bulk loading
     }
@@ -125,8 +124,8 @@ namespace isoimpact
              const double         eta,
              std::vector<double> &r,
              std::vector<double> &dr,
-             Point<dim> &         x,
-             Tensor<1, dim> &     tangent) const
+             Point<dim>          &x,
+             Tensor<1, dim>      &tangent) const
     {
       evaluate_segment_basis(segments[s], eta, r, dr);
       x       = Point<dim>();
@@ -143,7 +142,7 @@ namespace isoimpact
     // does not converge, a sampled golden-section search on the distance.
     double
     closest_point(const unsigned int   s,
-                  const Point<dim> &   x,
+                  const Point<dim>    &x,
                   std::vector<double> &r,
                   std::vector<double> &dr) const
     {
@@ -154,8 +153,8 @@ namespace isoimpact
         return (x - y).norm_square();
       };
 
-      double       eta = 0.5, best = std::numeric_limits<double>::max();
-      const int    n_samples = 5;
+      double    eta = 0.5, best = std::numeric_limits<double>::max();
+      const int n_samples = 5;
       for (int i = 0; i < n_samples; ++i)
         {
           const double e = double(i) / (n_samples - 1);
@@ -167,10 +166,10 @@ namespace isoimpact
       for (unsigned int iteration = 0; iteration < 30; ++iteration)
         {
           evaluate(s, eta, r, dr, y, t);
-          const double step = ((x - y) * t) / t.norm_square();
-          const double next = std::min(1., std::max(0., eta + step));
+          const double step  = ((x - y) * t) / t.norm_square();
+          const double next  = std::min(1., std::max(0., eta + step));
           const bool   small = std::abs(next - eta) < 1e-13;
-          eta               = next;
+          eta                = next;
           if (small)
             {
               converged = true;
@@ -181,7 +180,7 @@ namespace isoimpact
         {
           const int n_fine = 33;
           double    a = 0., b = 1.;
-          best           = std::numeric_limits<double>::max();
+          best = std::numeric_limits<double>::max();
           for (int i = 0; i < n_fine; ++i)
             {
               const double e = double(i) / (n_fine - 1);
@@ -189,8 +188,8 @@ namespace isoimpact
               if (d < best)
                 best = d, eta = e;
             }
-          a = std::max(0., eta - 1. / (n_fine - 1));
-          b = std::min(1., eta + 1. / (n_fine - 1));
+          a                   = std::max(0., eta - 1. / (n_fine - 1));
+          b                   = std::min(1., eta + 1. / (n_fine - 1));
           const double golden = 0.5 * (std::sqrt(5.) - 1.);
           for (unsigned int iteration = 0; iteration < 60; ++iteration)
             {
@@ -215,7 +214,7 @@ namespace isoimpact
 
   template <int dim>
   PenaltyContact<dim>::PenaltyContact(
-    const ContactSettings &           settings,
+    const ContactSettings            &settings,
     std::vector<BoundarySegment<dim>> first_surface,
     std::vector<BoundarySegment<dim>> second_surface)
     : settings(settings)
@@ -257,8 +256,8 @@ namespace isoimpact
   ContactResult<dim>
   PenaltyContact<dim>::add_forces(const Vector<double> &u_first,
                                   const Vector<double> &u_second,
-                                  Vector<double> &      f_first,
-                                  Vector<double> &      f_second,
+                                  Vector<double>       &f_first,
+                                  Vector<double>       &f_second,
                                   const bool            record_points) const
   {
     surfaces[0]->update_current_configuration(u_first);
@@ -288,8 +287,8 @@ namespace isoimpact
             const auto &segment = slave.segments[point.segment];
             Point<dim>  x;
             for (unsigned int k = 0; k < point.shape_values.size(); ++k)
-              x += point.shape_values[k] *
-                   slave.current_nodes[point.segment][k];
+              x +=
+                point.shape_values[k] * slave.current_nodes[point.segment][k];
 
             candidates.clear();
             master.tree.query(bgi::intersects(
@@ -305,7 +304,7 @@ namespace isoimpact
               {
                 const unsigned int s   = candidate.second;
                 const double       eta = master.closest_point(s, x, r, dr);
-                const auto &       ms  = master.segments[s];
+                const auto        &ms  = master.segments[s];
                 if ((eta <= 0. && ms.free_end[0]) ||
                     (eta >= 1. && ms.free_end[1]))
                   continue; // beyond the end of the master surface
@@ -352,10 +351,8 @@ namespace isoimpact
               std::max(result.max_pressure, -reported_penalty * gap);
             ++result.n_active_points;
             if (record_points)
-              result.points.push_back({point.reference_position,
-                                       -reported_penalty * gap,
-                                       gap,
-                                       pass});
+              result.points.push_back(
+                {point.reference_position, -reported_penalty * gap, gap, pass});
           }
       }
     (void)u;

@@ -10,12 +10,12 @@ namespace isoimpact
 {
   template <int dim>
   ElasticBody<dim>::ElasticBody(
-    const std::string &                  name,
+    const std::string                   &name,
     std::unique_ptr<Discretization<dim>> discretization,
-    const ElasticMaterial &              material,
+    const ElasticMaterial               &material,
     const MassScheme                     mass_scheme,
-    const std::vector<RollerCondition> & rollers,
-    const Tensor<1, dim> &               initial_velocity)
+    const std::vector<RollerCondition>  &rollers,
+    const Tensor<1, dim>                &initial_velocity)
     : body_name(name)
     , discretization_ptr(std::move(discretization))
     , body_material(material)
@@ -132,8 +132,8 @@ namespace isoimpact
   template <int dim>
   void
   ElasticBody<dim>::compute_acceleration(const Vector<double> &u,
-                                         Vector<double> &      f,
-                                         Vector<double> &      a) const
+                                         Vector<double>       &f,
+                                         Vector<double>       &a) const
   {
     body_constraints.condense(f);
     stiffness.vmult(scratch, u);

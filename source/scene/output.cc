@@ -31,16 +31,13 @@ namespace isoimpact
               for (unsigned int j = i; j < 2; ++j)
                 strain[i][j] = 0.5 * (inputs.solution_gradients[q][i][j] +
                                       inputs.solution_gradients[q][j][i]);
-            const auto   sigma    = material.stress(strain);
-            const double sigma_zz = material.out_of_plane_stress(strain);
-            const double von_mises =
-              std::sqrt(0.5 * ((sigma[0][0] - sigma[1][1]) *
-                                 (sigma[0][0] - sigma[1][1]) +
-                               (sigma[1][1] - sigma_zz) *
-                                 (sigma[1][1] - sigma_zz) +
-                               (sigma_zz - sigma[0][0]) *
-                                 (sigma_zz - sigma[0][0])) +
-                        3. * sigma[0][1] * sigma[0][1]);
+            const auto   sigma     = material.stress(strain);
+            const double sigma_zz  = material.out_of_plane_stress(strain);
+            const double von_mises = std::sqrt(
+              0.5 * ((sigma[0][0] - sigma[1][1]) * (sigma[0][0] - sigma[1][1]) +
+                     (sigma[1][1] - sigma_zz) * (sigma[1][1] - sigma_zz) +
+                     (sigma_zz - sigma[0][0]) * (sigma_zz - sigma[0][0])) +
+              3. * sigma[0][1] * sigma[0][1]);
             computed_quantities[q](0) = sigma[0][0];
             computed_quantities[q](1) = sigma[1][1];
             computed_quantities[q](2) = sigma[0][1];
@@ -78,20 +75,23 @@ namespace isoimpact
 
   std::string
   SolutionWriter::write(const std::vector<ElasticBody<2> *> &bodies,
-                        const double                        time)
+                        const double                         time)
   {
-    const std::string number = Utilities::int_to_string(counter++, 4);
+    const std::string        number = Utilities::int_to_string(counter++, 4);
     std::vector<std::string> pieces;
     for (const auto *body : bodies)
       {
-        const auto &   disc = body->discretization();
+        const auto    &disc = body->discretization();
         Vector<double> displacement(disc.get_dof_handler().n_dofs());
         Vector<double> velocity(disc.get_dof_handler().n_dofs());
         disc.to_dof_handler_vector(body->displacement, displacement);
         disc.to_dof_handler_vector(body->velocity, velocity);
 
-        const std::vector<DataComponentInterpretation::DataComponentInterpretation>
-          vector_field(2, DataComponentInterpretation::component_is_part_of_vector);
+        const std::vector<
+          DataComponentInterpretation::DataComponentInterpretation>
+          vector_field(
+            2,
+            DataComponentInterpretation::component_is_part_of_vector);
         StressPostprocessor stresses(body->material());
         DataOut<2>          data_out;
         data_out.attach_dof_handler(disc.get_dof_handler());
@@ -100,7 +100,8 @@ namespace isoimpact
                                  DataOut<2>::type_dof_data,
                                  vector_field);
         data_out.add_data_vector(velocity,
-                                 std::vector<std::string>(2, "velocity_m_per_s"),
+                                 std::vector<std::string>(2,
+                                                          "velocity_m_per_s"),
                                  DataOut<2>::type_dof_data,
                                  vector_field);
         data_out.add_data_vector(displacement, stresses);

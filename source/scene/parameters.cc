@@ -79,7 +79,10 @@ namespace isoimpact
                         "0.2",
                         Patterns::Double(-1., 0.5),
                         "nu, in (-1, 0.5).");
-      prm.declare_entry("Density", "1", Patterns::Double(0.), "rho, kg/m^3 (> 0).");
+      prm.declare_entry("Density",
+                        "1",
+                        Patterns::Double(0.),
+                        "rho, kg/m^3 (> 0).");
       prm.leave_subsection();
       prm.leave_subsection();
     }
@@ -221,12 +224,12 @@ namespace isoimpact
     prm.leave_subsection();
 
     prm.enter_subsection("Discretization");
-    method                            = prm.get("Method");
-    degree                            = prm.get_integer("Degree");
-    const unsigned int global         = prm.get_integer("Global refinements");
-    const unsigned int local          = prm.get_integer("Local refinements");
-    const auto         center_values  = parse_doubles(prm.get("Refinement center"));
-    const double       refine_radius  = prm.get_double("Refinement radius");
+    method                     = prm.get("Method");
+    degree                     = prm.get_integer("Degree");
+    const unsigned int global  = prm.get_integer("Global refinements");
+    const unsigned int local   = prm.get_integer("Local refinements");
+    const auto   center_values = parse_doubles(prm.get("Refinement center"));
+    const double refine_radius = prm.get_double("Refinement radius");
     prm.leave_subsection();
 
     for (unsigned int b = 0; b < 2; ++b)
@@ -239,17 +242,17 @@ namespace isoimpact
             BodyGeometry::Shape::half_disk :
             (shape == "full disk" ? BodyGeometry::Shape::full_disk :
                                     BodyGeometry::Shape::rectangle);
-        const auto c           = parse_doubles(prm.get("Center"));
-        body.geometry.center   = Point<2>(c[0], c[1]);
-        body.geometry.radius   = prm.get_double("Radius");
-        const auto ll          = parse_doubles(prm.get("Lower left corner"));
-        const auto ur          = parse_doubles(prm.get("Upper right corner"));
-        body.geometry.lower_left  = Point<2>(ll[0], ll[1]);
+        const auto c             = parse_doubles(prm.get("Center"));
+        body.geometry.center     = Point<2>(c[0], c[1]);
+        body.geometry.radius     = prm.get_double("Radius");
+        const auto ll            = parse_doubles(prm.get("Lower left corner"));
+        const auto ur            = parse_doubles(prm.get("Upper right corner"));
+        body.geometry.lower_left = Point<2>(ll[0], ll[1]);
         body.geometry.upper_right = Point<2>(ur[0], ur[1]);
-        const auto v           = parse_doubles(prm.get("Initial velocity"));
-        body.initial_velocity[0] = v[0];
-        body.initial_velocity[1] = v[1];
-        body.symmetry_cut        = prm.get_bool("Symmetry cut");
+        const auto v              = parse_doubles(prm.get("Initial velocity"));
+        body.initial_velocity[0]  = v[0];
+        body.initial_velocity[1]  = v[1];
+        body.symmetry_cut         = prm.get_bool("Symmetry cut");
         prm.enter_subsection("Material");
         body.material.youngs_modulus = prm.get_double("Young's modulus");
         body.material.poisson_ratio  = prm.get_double("Poisson's ratio");
@@ -310,8 +313,8 @@ namespace isoimpact
       {
         std::ostringstream message;
         e.print_info(message);
-        throw InputError("in parameter file '" + filename + "': " +
-                         message.str());
+        throw InputError("in parameter file '" + filename +
+                         "': " + message.str());
       }
 
     Parameters parameters;
@@ -320,7 +323,7 @@ namespace isoimpact
     // Values the patterns cannot express.
     const auto require = [&](const bool         condition,
                              const std::string &parameter,
-                             const auto &       value,
+                             const auto        &value,
                              const std::string &allowed) {
       if (!condition)
         {
@@ -333,9 +336,11 @@ namespace isoimpact
     };
     for (unsigned int b = 0; b < 2; ++b)
       {
-        const auto &       body = parameters.bodies[b];
-        const std::string  s    = std::string(body_names[b]) + "/";
-        require(body.geometry.radius > 0., s + "Radius", body.geometry.radius,
+        const auto       &body = parameters.bodies[b];
+        const std::string s    = std::string(body_names[b]) + "/";
+        require(body.geometry.radius > 0.,
+                s + "Radius",
+                body.geometry.radius,
                 "it must be positive");
         require(body.material.youngs_modulus > 0.,
                 s + "Material/Young's modulus",

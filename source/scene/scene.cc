@@ -29,7 +29,7 @@ namespace isoimpact
 
     for (unsigned int b = 0; b < 2; ++b)
       {
-        const auto &body = parameters.bodies[b];
+        const auto                  &body = parameters.bodies[b];
         std::vector<RollerCondition> rollers;
         if (body.symmetry_cut &&
             body.geometry.shape == BodyGeometry::Shape::half_disk)
@@ -69,15 +69,16 @@ namespace isoimpact
           {
             const auto &body = parameters.bodies[b];
             cylinders[b]     = {body.geometry.radius,
-                            body.material.youngs_modulus,
-                            body.material.poisson_ratio,
-                            body.material.density};
+                                body.material.youngs_modulus,
+                                body.material.poisson_ratio,
+                                body.material.density};
           }
-        scene.reference = std::make_unique<HertzImpactReference>(
-          cylinders[0],
-          cylinders[1],
-          relative_velocity.norm(),
-          approach_law_from_string(parameters.approach_law));
+        scene.reference =
+          std::make_unique<HertzImpactReference>(cylinders[0],
+                                                 cylinders[1],
+                                                 relative_velocity.norm(),
+                                                 approach_law_from_string(
+                                                   parameters.approach_law));
       }
     return scene;
   }

@@ -7,9 +7,9 @@ namespace isoimpact
 {
   template <int dim>
   CentralDifference<dim>::CentralDifference(
-    const std::vector<ElasticBody<dim> *> &      bodies,
+    const std::vector<ElasticBody<dim> *>      &bodies,
     const std::vector<ContactInteraction<dim>> &contacts,
-    const double                                 time_step)
+    const double                                time_step)
     : bodies(bodies)
     , contacts(contacts)
     , dt(time_step)
