@@ -3,6 +3,7 @@
 
 #include <isoimpact/discretization.h>
 #include <isoimpact/discretization_fea.h>
+#include <isoimpact/discretization_iga.h>
 
 #include <cmath>
 
@@ -136,10 +137,11 @@ namespace isoimpact
   {
     if (kind == "fea")
       return std::make_unique<DiscretizationFEA<dim>>(geometry, degree);
+    if (kind == "iga")
+      return std::make_unique<DiscretizationIGA<dim>>(geometry, degree);
     AssertThrow(false,
                 ExcMessage("unknown discretisation '" + kind +
-                           "': allowed are 'fea' (and 'iga' once the NURBS "
-                           "layer is built in)"));
+                           "': allowed are 'fea' and 'iga'"));
     return nullptr;
   }
 
