@@ -35,6 +35,10 @@ namespace isoimpact
    * side number f (rectangle: 0 left, 1 right, 2 bottom, 3 top, as in the
    * FEA version).
    *
+   * Cell quadrature: QGauss(p+1) for polynomial patches (all weights
+   * equal), QGauss(p+6) for rational ones (the rational integrands are
+   * then integrated to about round-off on refined patches).
+   *
    * Unknowns (interleaved): global index = dim * control_point + component.
    * The DoFHandler holds the broken layout of FE_NURBS and is only used for
    * FEValues/DataOut; to_dof_handler_vector() maps between the two.
