@@ -1,0 +1,195 @@
+// Cross-check of FE_NURBS + MappingNURBS with deal.II's own elements: on a
+// rectangle made of one element of degree p (open knot vectors without
+// interior knots, all weights 1) the NURBS functions are the tensor-product
+// Bernstein polynomials, and the geometry is affine. So FEValues with
+// FE_NURBS and MappingNURBS must equal FEValues with FE_Bernstein(p) and
+// MappingQ(1) on the same cell: values, real-space gradients, quadrature
+// points and JxW, in the cell and on all four faces (normals too), to 1e-12
+// (relative to the gradient size for gradients). FE_Bernstein numbers its
+// functions hierarchically (vertices, lines, interior), FE_NURBS
+// lexicographically: FETools::hierarchic_to_lexicographic_numbering maps one
+// to the other. Degrees 2 and 3; also for the vector element
+// FESystem(FE_NURBS, 2) against FESystem(FE_Bernstein, 2).
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_bernstein.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_tools.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q.h>
+
+#include <isoimpact/discretization_iga.h>
+#include <isoimpact/nurbs_geometries.h>
+
+#include <cmath>
+
+#include "tests.h"
+
+using namespace isoimpact;
+
+namespace
+{
+  void
+  compare(const unsigned int degree)
+  {
+    std::cout << "degree " << degree << std::endl;
+    const Point<2>             corner1(-1., 0.5), corner2(2., 1.75);
+    const DiscretizationIGA<2> iga(nurbs::rectangle(corner1, corner2, degree));
+    CHECK_TRUE(iga.get_triangulation().n_active_cells() == 1);
+
+    const FE_Bernstein<2> bernstein(degree);
+    const FESystem<2>     bernstein_system(bernstein, 2);
+    const MappingQ<2>     mapping_q(1);
+    const auto           &fe_nurbs = iga.get_fe().base_element(0);
+    CHECK_TRUE(fe_nurbs.n_dofs_per_cell() == bernstein.n_dofs_per_cell());
+
+    // lexicographic[h] = lexicographic index of hierarchic function h.
+    const std::vector<unsigned int> lexicographic =
+      FETools::hierarchic_to_lexicographic_numbering<2>(degree);
+
+    const auto   cell = iga.get_dof_handler().begin_active();
+    const double scale =
+      1. / std::min(corner2[0] - corner1[0], corner2[1] - corner1[1]);
+
+    // Cell.
+    {
+      const QGauss<2>   quadrature(degree + 2);
+      const UpdateFlags flags = update_values | update_gradients |
+                                update_quadrature_points | update_JxW_values;
+      FEValues<2> nurbs_values(iga.get_mapping(), fe_nurbs, quadrature, flags);
+      FEValues<2> bernstein_values(mapping_q, bernstein, quadrature, flags);
+      FEValues<2> nurbs_system(iga.get_mapping(),
+                               iga.get_fe(),
+                               quadrature,
+                               update_values | update_gradients);
+      FEValues<2> bernstein_system_values(mapping_q,
+                                          bernstein_system,
+                                          quadrature,
+                                          update_values | update_gradients);
+      nurbs_values.reinit(cell);
+      bernstein_values.reinit(cell);
+      nurbs_system.reinit(cell);
+      bernstein_system_values.reinit(cell);
+      double value_error = 0., gradient_error = 0., point_error = 0.,
+             jxw_error = 0., system_error = 0.;
+      for (unsigned int q = 0; q < quadrature.size(); ++q)
+        {
+          point_error = std::max(point_error,
+                                 nurbs_values.quadrature_point(q).distance(
+                                   bernstein_values.quadrature_point(q)));
+          jxw_error =
+            std::max(jxw_error,
+                     std::abs(nurbs_values.JxW(q) - bernstein_values.JxW(q)));
+          for (unsigned int h = 0; h < bernstein.n_dofs_per_cell(); ++h)
+            {
+              const unsigned int l = lexicographic[h];
+              value_error =
+                std::max(value_error,
+                         std::abs(nurbs_values.shape_value(l, q) -
+                                  bernstein_values.shape_value(h, q)));
+              gradient_error = std::max(gradient_error,
+                                        (nurbs_values.shape_grad(l, q) -
+                                         bernstein_values.shape_grad(h, q))
+                                            .norm() /
+                                          scale);
+            }
+          // Vector elements: component c of system function i.
+          for (unsigned int i = 0; i < bernstein_system.n_dofs_per_cell(); ++i)
+            {
+              const auto [c, h] = bernstein_system.system_to_component_index(i);
+              const unsigned int j =
+                iga.get_fe().component_to_system_index(c, lexicographic[h]);
+              system_error = std::max(
+                system_error,
+                std::abs(
+                  nurbs_system.shape_value_component(j, q, c) -
+                  bernstein_system_values.shape_value_component(i, q, c)) +
+                  (nurbs_system.shape_grad_component(j, q, c) -
+                   bernstein_system_values.shape_grad_component(i, q, c))
+                      .norm() /
+                    scale);
+            }
+        }
+      CHECK_CLOSE_ABS(value_error, 0., 1e-12);
+      CHECK_CLOSE_ABS(gradient_error, 0., 1e-12);
+      CHECK_CLOSE_ABS(point_error, 0., 1e-12);
+      CHECK_CLOSE_ABS(jxw_error, 0., 1e-12);
+      CHECK_CLOSE_ABS(system_error, 0., 1e-12);
+    }
+
+    // Faces.
+    {
+      const QGauss<1>   quadrature(degree + 2);
+      const UpdateFlags flags = update_values | update_gradients |
+                                update_quadrature_points | update_JxW_values |
+                                update_normal_vectors;
+      FEFaceValues<2> nurbs_values(iga.get_mapping(),
+                                   fe_nurbs,
+                                   quadrature,
+                                   flags);
+      FEFaceValues<2> bernstein_values(mapping_q, bernstein, quadrature, flags);
+      double          value_error = 0., gradient_error = 0., point_error = 0.,
+             jxw_error = 0., normal_error = 0.;
+      for (const unsigned int f : cell->face_indices())
+        {
+          nurbs_values.reinit(cell, f);
+          bernstein_values.reinit(cell, f);
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            {
+              point_error  = std::max(point_error,
+                                     nurbs_values.quadrature_point(q).distance(
+                                       bernstein_values.quadrature_point(q)));
+              jxw_error    = std::max(jxw_error,
+                                   std::abs(nurbs_values.JxW(q) -
+                                            bernstein_values.JxW(q)));
+              normal_error = std::max(normal_error,
+                                      (nurbs_values.normal_vector(q) -
+                                       bernstein_values.normal_vector(q))
+                                        .norm());
+              for (unsigned int h = 0; h < bernstein.n_dofs_per_cell(); ++h)
+                {
+                  const unsigned int l = lexicographic[h];
+                  value_error =
+                    std::max(value_error,
+                             std::abs(nurbs_values.shape_value(l, q) -
+                                      bernstein_values.shape_value(h, q)));
+                  gradient_error = std::max(gradient_error,
+                                            (nurbs_values.shape_grad(l, q) -
+                                             bernstein_values.shape_grad(h, q))
+                                                .norm() /
+                                              scale);
+                }
+            }
+        }
+      CHECK_CLOSE_ABS(value_error, 0., 1e-12);
+      CHECK_CLOSE_ABS(gradient_error, 0., 1e-12);
+      CHECK_CLOSE_ABS(point_error, 0., 1e-12);
+      CHECK_CLOSE_ABS(jxw_error, 0., 1e-12);
+      CHECK_CLOSE_ABS(normal_error, 0., 1e-12);
+    }
+
+    // Mapping functions: unit <-> real round trip.
+    {
+      const Point<2> unit(0.3, 0.8);
+      const Point<2> real =
+        iga.get_mapping().transform_unit_to_real_cell(cell, unit);
+      CHECK_CLOSE_ABS(real.distance(
+                        mapping_q.transform_unit_to_real_cell(cell, unit)),
+                      0.,
+                      1e-12);
+      CHECK_CLOSE_ABS(iga.get_mapping()
+                        .transform_real_to_unit_cell(cell, real)
+                        .distance(unit),
+                      0.,
+                      1e-12);
+    }
+  }
+} // namespace
+
+int
+main()
+{
+  compare(2);
+  compare(3);
+  return isoimpact_tests::report();
+}
