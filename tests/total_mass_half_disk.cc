@@ -27,6 +27,10 @@
 //    HRZ mass equals integrate_mass to 1e-12 relative: all three are sums of
 //    the same quadrature of rho over the same mapped cells, reordered, so they
 //    differ only by round-off (sums over up to ~10^3 cells: ~1e-14).
+//    The same with the roller of the half model (u_x = 0 on the cut): the
+//    mass must not depend on which component the roller takes away (a
+//    total_mass() that summed component 0 only lost the x mass of the cut
+//    nodes); and the y momentum of a uniform velocity is m v_y (1e-12).
 // 3. The same with local refinement near the contact point (0, 0), i.e. with
 //    hanging-node constraints, which must neither lose nor create mass.
 #include <deal.II/base/numbers.h>
@@ -38,6 +42,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "tests.h"
 
@@ -77,26 +82,40 @@ namespace
                       n * face_area(numbers::PI / 2. / n));
   }
 
-  // total_mass() of an ElasticBody with each scheme against integrate_mass.
+  // total_mass() of an ElasticBody with each scheme against integrate_mass,
+  // free and with the roller of the half model (u_x = 0 on the cut), which
+  // removes the x mass of the cut nodes but not the body's mass; the
+  // y momentum of a uniform velocity (0, -2) is -2 m.
   void
   check_schemes(const BodyGeometry &geometry, const double integrated)
   {
     ElasticMaterial material;
     material.density = density;
-    for (const MassScheme scheme :
-         {MassScheme::consistent, MassScheme::row_sum, MassScheme::hrz})
-      {
-        ElasticBody<2> body("body",
-                            std::make_unique<DiscretizationFEA<2>>(geometry, 2),
-                            material,
-                            scheme,
-                            {},
-                            Tensor<1, 2>());
-        isoimpact_tests::check_close("total_mass(), " + to_string(scheme),
-                                     body.total_mass(),
-                                     integrated,
-                                     1e-12);
-      }
+    for (const bool roller : {false, true})
+      for (const MassScheme scheme :
+           {MassScheme::consistent, MassScheme::row_sum, MassScheme::hrz})
+        {
+          std::vector<RollerCondition> rollers;
+          if (roller)
+            rollers.push_back({BodyGeometry::symmetry_boundary_id, 0});
+          ElasticBody<2>    body("body",
+                              std::make_unique<DiscretizationFEA<2>>(geometry,
+                                                                     2),
+                              material,
+                              scheme,
+                              rollers,
+                              Tensor<1, 2>({0., -2.}));
+          const std::string which =
+            to_string(scheme) + (roller ? ", roller on the cut" : "");
+          isoimpact_tests::check_close("total_mass(), " + which,
+                                       body.total_mass(),
+                                       integrated,
+                                       1e-12);
+          isoimpact_tests::check_close("y momentum / -2, " + which,
+                                       body.momentum(body.velocity)[1] / -2.,
+                                       integrated,
+                                       1e-12);
+        }
   }
 } // namespace
 
