@@ -47,8 +47,11 @@ namespace
     const std::vector<unsigned int> lexicographic =
       FETools::hierarchic_to_lexicographic_numbering<2>(degree);
 
-    const auto   cell = iga.get_dof_handler().begin_active();
-    const double scale =
+    const auto dof_cell = iga.get_dof_handler().begin_active();
+    // The scalar elements are not the DoFHandler's: FEValues of them are
+    // reinitialized on the triangulation cell.
+    const typename Triangulation<2>::cell_iterator cell(dof_cell);
+    const double                                   scale =
       1. / std::min(corner2[0] - corner1[0], corner2[1] - corner1[1]);
 
     // Cell.
@@ -68,7 +71,7 @@ namespace
                                           update_values | update_gradients);
       nurbs_values.reinit(cell);
       bernstein_values.reinit(cell);
-      nurbs_system.reinit(cell);
+      nurbs_system.reinit(dof_cell);
       bernstein_system_values.reinit(cell);
       double value_error = 0., gradient_error = 0., point_error = 0.,
              jxw_error = 0., system_error = 0.;

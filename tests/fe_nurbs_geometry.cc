@@ -89,7 +89,9 @@ namespace
     for (const auto &cell :
          discretization.get_dof_handler().active_cell_iterators())
       {
-        fe_values.reinit(cell);
+        // The scalar element is not the DoFHandler's: reinit on the
+        // triangulation cell.
+        fe_values.reinit(typename Triangulation<2>::cell_iterator(cell));
         system_values.reinit(cell);
         patch.element_control_points(cell->user_index(), control_points);
         for (unsigned int q = 0; q < quadrature.size(); ++q)
