@@ -176,7 +176,8 @@ namespace isoimpact
       const unsigned int         component,
       AffineConstraints<double> &constraints) const = 0;
 
-    // The faces of a boundary as curves, ordered along the boundary.
+    // The faces of a boundary as curves (in no particular order; free_end
+    // tells the ends of the boundary).
     virtual std::vector<BoundarySegment<dim>>
     boundary_segments(const types::boundary_id boundary_id) const = 0;
 

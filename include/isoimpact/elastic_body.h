@@ -3,7 +3,7 @@
 #ifndef isoimpact_elastic_body_h
 #define isoimpact_elastic_body_h
 
-#include <deal.II/lac/sparse_direct.h>
+#include <deal.II/lac/precondition.h>
 
 #include <isoimpact/assembly.h>
 
@@ -88,18 +88,18 @@ namespace isoimpact
     void
     solve_mass(Vector<double> &a, const Vector<double> &f) const;
 
-    std::string                          body_name;
-    std::unique_ptr<Discretization<dim>> discretization_ptr;
-    ElasticMaterial                      body_material;
-    MassScheme                           scheme;
-    AffineConstraints<double>            body_constraints;
-    SparsityPattern                      sparsity_pattern;
-    SparseMatrix<double>                 stiffness;
-    SparseMatrix<double>                 consistent_mass;
-    Vector<double>                       lumped_mass;
-    Vector<double>                       inverse_lumped_mass;
-    SparseDirectUMFPACK                  mass_factorization;
-    mutable Vector<double>               scratch;
+    std::string                              body_name;
+    std::unique_ptr<Discretization<dim>>     discretization_ptr;
+    ElasticMaterial                          body_material;
+    MassScheme                               scheme;
+    AffineConstraints<double>                body_constraints;
+    SparsityPattern                          sparsity_pattern;
+    SparseMatrix<double>                     stiffness;
+    SparseMatrix<double>                     consistent_mass;
+    Vector<double>                           lumped_mass;
+    Vector<double>                           inverse_lumped_mass;
+    PreconditionJacobi<SparseMatrix<double>> mass_preconditioner;
+    mutable Vector<double>                   scratch;
   };
 } // namespace isoimpact
 
