@@ -7,12 +7,17 @@
 #include <deal.II/lac/full_matrix.h>
 
 #include <utility>
+#include <string>
 #include <vector>
 
 namespace isoimpact
 {
   namespace nurbs
   {
+    // Shortest text that reads back as the same value (error messages).
+    std::string
+    to_string(const double value);
+
     /**
      * An open knot vector U = {u_0, ..., u_{m-1}} of degree p and the
      * B-spline basis N_0, ..., N_{n-1} (n = m - p - 1) it defines.

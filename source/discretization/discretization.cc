@@ -65,8 +65,8 @@ namespace isoimpact
   void
   evaluate_segment_basis(const BoundarySegment<dim> &segment,
                          const double                eta,
-                         std::vector<double> &       values,
-                         std::vector<double> &       derivatives)
+                         std::vector<double>        &values,
+                         std::vector<double>        &derivatives)
   {
     thread_local std::vector<double> b, db;
     bernstein_basis(segment.degree, eta, b, db);
@@ -89,9 +89,9 @@ namespace isoimpact
       }
     for (unsigned int k = 0; k < n_nodes; ++k)
       {
-        derivatives[k] = (derivatives[k] * weight_sum -
-                          values[k] * weight_sum_derivative) /
-                         (weight_sum * weight_sum);
+        derivatives[k] =
+          (derivatives[k] * weight_sum - values[k] * weight_sum_derivative) /
+          (weight_sum * weight_sum);
         values[k] /= weight_sum;
       }
   }
@@ -131,7 +131,7 @@ namespace isoimpact
 
   template <int dim>
   std::unique_ptr<Discretization<dim>>
-  create_discretization(const std::string & kind,
+  create_discretization(const std::string  &kind,
                         const BodyGeometry &geometry,
                         const unsigned int  degree)
   {

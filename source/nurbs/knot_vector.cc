@@ -12,25 +12,25 @@ namespace isoimpact
 {
   namespace nurbs
   {
+    std::string
+    to_string(const double value)
+    {
+      // Shortest text that reads back as the same value.
+      std::string text;
+      for (int digits = 1; digits <= 17; ++digits)
+        {
+          std::ostringstream s;
+          s.precision(digits);
+          s << value;
+          text = s.str();
+          if (!std::isfinite(value) || std::stod(text) == value)
+            break;
+        }
+      return text;
+    }
+
     namespace
     {
-      std::string
-      to_string(const double value)
-      {
-        // Shortest text that reads back as the same value.
-        std::string text;
-        for (int digits = 1; digits <= 17; ++digits)
-          {
-            std::ostringstream s;
-            s.precision(digits);
-            s << value;
-            text = s.str();
-            if (!std::isfinite(value) || std::stod(text) == value)
-              break;
-          }
-        return text;
-      }
-
       double
       binomial(const unsigned int n, const unsigned int k)
       {

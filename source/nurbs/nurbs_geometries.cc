@@ -11,23 +11,6 @@ namespace isoimpact
   {
     namespace
     {
-      std::string
-      number_to_string(const double value)
-      {
-        // Shortest text that reads back as the same value.
-        std::string text;
-        for (int digits = 1; digits <= 17; ++digits)
-          {
-            std::ostringstream s;
-            s.precision(digits);
-            s << value;
-            text = s.str();
-            if (!std::isfinite(value) || std::stod(text) == value)
-              break;
-          }
-        return text;
-      }
-
       // Control net of a 3 x 3 quadratic Bezier patch from local points
       // (scaled by radius, shifted by center), index i + 3 j.
       PatchGeometry<2>
@@ -52,8 +35,7 @@ namespace isoimpact
       check_radius(const std::string &what, const double radius)
       {
         AssertThrow(std::isfinite(radius) && radius > 0.,
-                    dealii::ExcMessage(what + ": radius " +
-                                       number_to_string(radius) +
+                    dealii::ExcMessage(what + ": radius " + to_string(radius) +
                                        " is not allowed; it must be positive "
                                        "and finite"));
       }
@@ -194,9 +176,9 @@ namespace isoimpact
       check_radius("quarter annulus (outer)", outer_radius);
       AssertThrow(inner_radius < outer_radius,
                   dealii::ExcMessage("quarter annulus: inner radius " +
-                                     number_to_string(inner_radius) +
+                                     to_string(inner_radius) +
                                      " is not smaller than outer radius " +
-                                     number_to_string(outer_radius) +
+                                     to_string(outer_radius) +
                                      "; the inner radius must be smaller"));
       const double s     = 1. / std::sqrt(2.);
       const double ratio = inner_radius / outer_radius;
@@ -234,9 +216,8 @@ namespace isoimpact
                         corner1[d] != corner2[d],
                       dealii::ExcMessage("rectangle: corners have coordinate " +
                                          std::to_string(d) + " equal to " +
-                                         number_to_string(corner1[d]) +
-                                         " and " +
-                                         number_to_string(corner2[d]) +
+                                         to_string(corner1[d]) + " and " +
+                                         to_string(corner2[d]) +
                                          "; they must be finite and differ"));
           lower[d] = std::min(corner1[d], corner2[d]);
           upper[d] = std::max(corner1[d], corner2[d]);
@@ -438,8 +419,8 @@ namespace isoimpact
                   if (value < kv.front() || value > kv.back())
                     fail(line.number,
                          "contact parameter " + line.words[1 + d] +
-                           " lies outside [" + number_to_string(kv.front()) +
-                           ", " + number_to_string(kv.back()) + "]");
+                           " lies outside [" + to_string(kv.front()) + ", " +
+                           to_string(kv.back()) + "]");
                   geometry.contact_parameter[d] = value;
                 }
               geometry.has_contact_point = true;

@@ -13,23 +13,6 @@ namespace isoimpact
   {
     namespace
     {
-      std::string
-      to_string(const double value)
-      {
-        // Shortest text that reads back as the same value.
-        std::string text;
-        for (int digits = 1; digits <= 17; ++digits)
-          {
-            std::ostringstream s;
-            s.precision(digits);
-            s << value;
-            text = s.str();
-            if (!std::isfinite(value) || std::stod(text) == value)
-              break;
-          }
-        return text;
-      }
-
       constexpr unsigned int max_functions_1d = KnotVector::max_degree + 1;
 
       // Advances a lexicographic counter (first entry fastest) with the
