@@ -13,6 +13,12 @@ add_test(NAME hertz_fea_hrz_benchmark
 set_tests_properties(hertz_fea_hrz_benchmark PROPERTIES
   TIMEOUT 600 FIXTURES_SETUP hertz_output)
 
+add_test(NAME hertz_iga_consistent_benchmark
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/hertz_benchmark.py
+    $<TARGET_FILE:isoimpact_program>
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_consistent_coarse.prm ${_work})
+set_tests_properties(hertz_iga_consistent_benchmark PROPERTIES TIMEOUT 600)
+
 add_test(NAME vtu_readback
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/vtu_readback.py
     ${_work}/hertz_fea_hrz_coarse)
