@@ -262,8 +262,7 @@ namespace isoimpact
   {
     surfaces[0]->update_current_configuration(u_first);
     surfaces[1]->update_current_configuration(u_second);
-    const std::array<const Vector<double> *, 2> u = {{&u_first, &u_second}};
-    const std::array<Vector<double> *, 2>       f = {{&f_first, &f_second}};
+    const std::array<Vector<double> *, 2> f = {{&f_first, &f_second}};
 
     const double eps = penalty_per_pass();
     // Both passes see (nearly) the same gap: the pressure they carry
@@ -355,7 +354,6 @@ namespace isoimpact
                 {point.reference_position, -reported_penalty * gap, gap, pass});
           }
       }
-    (void)u;
     return result;
   }
 
