@@ -1,0 +1,176 @@
+// Manufactured elasticity on the NURBS quarter annulus 1 <= r <= 2,
+// 0 <= theta <= pi/2 with FE_NURBS (through DiscretizationIGA and the
+// library's stiffness assembly): u_x = u_y = phi = (r^2 - 1)(4 - r^2) x y
+// vanishes on the whole boundary, so zero control points on the boundary
+// are exact. The L2 error must converge at rate >= p + 1 - 0.1 for p = 2, 3.
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/lac/sparse_direct.h>
+
+#include <isoimpact/assembly.h>
+#include <isoimpact/discretization_iga.h>
+#include <isoimpact/nurbs_geometries.h>
+
+#include <cmath>
+
+#include "tests.h"
+
+using namespace isoimpact;
+
+namespace
+{
+  const ElasticMaterial material; // E = 1000 Pa, nu = 0.2, plane strain
+
+  double
+  phi(const Point<2> &p)
+  {
+    const double r2 = p.square();
+    return (r2 - 1.) * (4. - r2) * p[0] * p[1];
+  }
+
+  Tensor<1, 2>
+  grad_phi(const Point<2> &p)
+  {
+    const double x = p[0], y = p[1], r2 = p.square();
+    const double f = (r2 - 1.) * (4. - r2), df_dr2 = 5. - 2. * r2;
+    Tensor<1, 2> g;
+    g[0] = f * y + 2. * x * df_dr2 * x * y;
+    g[1] = f * x + 2. * y * df_dr2 * x * y;
+    return g;
+  }
+
+  SymmetricTensor<2, 2>
+  exact_stress(const Point<2> &p)
+  {
+    // u = (phi, phi): grad u has both rows equal to grad phi.
+    const Tensor<1, 2>    g = grad_phi(p);
+    SymmetricTensor<2, 2> strain;
+    strain[0][0] = g[0];
+    strain[1][1] = g[1];
+    strain[0][1] = 0.5 * (g[1] + g[0]);
+    return material.stress(strain);
+  }
+
+  // b = -div sigma by central differences of the exact stress (error
+  // O(h^2) = 1e-10, far below the discretisation errors measured).
+  Tensor<1, 2>
+  body_force(const Point<2> &p)
+  {
+    const double h = 1e-5;
+    Tensor<1, 2> b;
+    for (unsigned int j = 0; j < 2; ++j)
+      {
+        Point<2> plus = p, minus = p;
+        plus[j] += h;
+        minus[j] -= h;
+        const auto ds = (exact_stress(plus) - exact_stress(minus)) / (2. * h);
+        for (unsigned int i = 0; i < 2; ++i)
+          b[i] -= ds[i][j];
+      }
+    return b;
+  }
+
+  double
+  l2_error(const unsigned int degree, const unsigned int n_spans)
+  {
+    auto geometry = nurbs::quarter_annulus(1., 2.);
+    geometry.patch.elevate_degree(0, degree - 2);
+    geometry.patch.elevate_degree(1, degree - 2);
+    geometry.patch.refine_uniformly(n_spans);
+    const DiscretizationIGA<2> disc(geometry);
+
+    AffineConstraints<double> constraints;
+    for (const types::boundary_id id :
+         {BodyGeometry::curved_boundary_id, BodyGeometry::symmetry_boundary_id})
+      for (unsigned int c = 0; c < 2; ++c)
+        disc.constrain_component_on_boundary(id, c, constraints);
+    constraints.close();
+
+    SparsityPattern sparsity;
+    make_sparsity_pattern(disc, constraints, sparsity);
+    SparseMatrix<double> stiffness(sparsity);
+    assemble_stiffness_matrix(disc, material, constraints, stiffness);
+
+    // Load vector through the same interface as every assembly.
+    Vector<double> rhs(disc.n_dofs()),
+      cell_rhs(disc.get_fe().n_dofs_per_cell());
+    FEValues<2>                          fe_values(disc.get_mapping(),
+                          disc.get_fe(),
+                          disc.get_cell_quadrature(),
+                          update_values | update_quadrature_points |
+                            update_JxW_values);
+    std::vector<types::global_dof_index> indices;
+    for (const auto &cell : disc.get_dof_handler().active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        cell_rhs = 0.;
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            const Tensor<1, 2> b = body_force(fe_values.quadrature_point(q));
+            for (const unsigned int i : fe_values.dof_indices())
+              {
+                const unsigned int c =
+                  disc.get_fe().system_to_component_index(i).first;
+                cell_rhs(i) += b[c] * fe_values.shape_value_component(i, q, c) *
+                               fe_values.JxW(q);
+              }
+          }
+        disc.get_dof_indices(cell, indices);
+        constraints.distribute_local_to_global(cell_rhs, indices, rhs);
+      }
+
+    SparseDirectUMFPACK solver;
+    solver.initialize(stiffness);
+    Vector<double> u(disc.n_dofs());
+    solver.vmult(u, rhs);
+    constraints.distribute(u);
+
+    // L2 error with a richer rule.
+    Vector<double> u_dofs(disc.get_dof_handler().n_dofs());
+    disc.to_dof_handler_vector(u, u_dofs);
+    const QGauss<2>             quadrature(degree + 4);
+    FEValues<2>                 error_values(disc.get_mapping(),
+                             disc.get_fe(),
+                             quadrature,
+                             update_values | update_quadrature_points |
+                               update_JxW_values);
+    std::vector<Vector<double>> values(quadrature.size(), Vector<double>(2));
+    double                      error = 0.;
+    for (const auto &cell : disc.get_dof_handler().active_cell_iterators())
+      {
+        error_values.reinit(cell);
+        error_values.get_function_values(u_dofs, values);
+        for (const unsigned int q : error_values.quadrature_point_indices())
+          {
+            const double exact = phi(error_values.quadrature_point(q));
+            for (unsigned int c = 0; c < 2; ++c)
+              error += (values[q](c) - exact) * (values[q](c) - exact) *
+                       error_values.JxW(q);
+          }
+      }
+    return std::sqrt(error);
+  }
+} // namespace
+
+int
+main()
+{
+  for (const unsigned int degree : {2u, 3u})
+    {
+      std::vector<double> errors;
+      for (const unsigned int n : {4u, 8u, 16u})
+        {
+          errors.push_back(l2_error(degree, n));
+          std::cout << "p = " << degree << ", " << n << " x " << n
+                    << " spans: L2 error " << errors.back() << " m\n";
+        }
+      const double rate = std::log2(errors[1] / errors[2]);
+      isoimpact_tests::check_true("p = " + std::to_string(degree) +
+                                    ": L2 rate " + std::to_string(rate) +
+                                    " >= p + 1 - 0.1",
+                                  rate >= degree + 1 - 0.1);
+    }
+  return isoimpact_tests::report();
+}
