@@ -39,3 +39,14 @@ add_test(NAME example_builds_against_library
                     -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
     --test-command elastic_wave)
 set_tests_properties(example_builds_against_library PROPERTIES TIMEOUT 900)
+
+# The isogeometric example (FE_NURBS on a quarter annulus), likewise.
+add_test(NAME example_nurbs_builds_against_library
+  COMMAND ${CMAKE_CTEST_COMMAND}
+    --build-and-test ${CMAKE_SOURCE_DIR}/examples/nurbs_quarter_annulus
+                     ${CMAKE_CURRENT_BINARY_DIR}/example_nurbs_quarter_annulus
+    --build-generator ${CMAKE_GENERATOR}
+    --build-options -Disoimpact_DIR=${CMAKE_BINARY_DIR}
+                    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
+    --test-command nurbs_quarter_annulus)
+set_tests_properties(example_nurbs_builds_against_library PROPERTIES TIMEOUT 900)
