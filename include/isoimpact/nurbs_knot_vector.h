@@ -6,8 +6,8 @@
 
 #include <deal.II/lac/full_matrix.h>
 
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace isoimpact
