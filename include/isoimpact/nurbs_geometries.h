@@ -119,6 +119,22 @@ namespace isoimpact
               const unsigned int      degree = 2);
 
     /**
+     * One biquadratic element on a quadrilateral given by its vertices in
+     * deal.II order (parametric corners (0,0), (1,0), (0,1), (1,1)). A side
+     * of kind `arc` is the circular arc around `arc_center` between its two
+     * end vertices (they must be equidistant from it, the arc shorter than
+     * a half circle); every other side is straight, at constant speed. The
+     * interior control point blends the sides bilinearly (Coons) in
+     * homogeneous coordinates, so a patch with one arc side is the ruled
+     * surface between it and the opposite side, and its straight sides have
+     * weights 1: patches built this way on a conforming mesh glue C0.
+     */
+    PatchGeometry<2>
+    quadrilateral(const std::array<dealii::Point<2>, 4> &vertices,
+                  const std::array<SideKind, 4>         &side_kinds,
+                  const dealii::Point<2>                &arc_center = {});
+
+    /**
      * Reads a patch from a text file. Format ('#' starts a comment, blank
      * lines are ignored, keywords in this order):
      *

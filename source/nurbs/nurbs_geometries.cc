@@ -1,6 +1,7 @@
 // Ready-made NURBS patches and the patch text format.
 #include <isoimpact/nurbs_geometries.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -162,6 +163,80 @@ namespace isoimpact
       PatchGeometry<2>            geometry =
         quadratic_bezier_patch(local, weights, radius, center);
       geometry.side_kinds.fill(SideKind::arc);
+      return geometry;
+    }
+
+
+
+    PatchGeometry<2>
+    quadrilateral(const std::array<dealii::Point<2>, 4> &vertices,
+                  const std::array<SideKind, 4>         &side_kinds,
+                  const dealii::Point<2>                &arc_center)
+    {
+      // Homogeneous control net (w x, w y, w), index i + 3 j.
+      std::array<dealii::Point<3>, 9> net;
+      const auto homogeneous = [](const dealii::Point<2> &x, const double w) {
+        return dealii::Point<3>(w * x[0], w * x[1], w);
+      };
+      const std::array<unsigned int, 4> corner_index = {{0, 2, 6, 8}};
+      for (unsigned int v = 0; v < 4; ++v)
+        net[corner_index[v]] = homogeneous(vertices[v], 1.);
+      // Side f: its end vertices and the index of its middle control point.
+      const std::array<std::array<unsigned int, 2>, 4> ends = {
+        {{{0, 2}}, {{1, 3}}, {{0, 1}}, {{2, 3}}}};
+      const std::array<unsigned int, 4> middle_index = {{3, 5, 1, 7}};
+      for (unsigned int f = 0; f < 4; ++f)
+        {
+          const dealii::Point<2> &a = vertices[ends[f][0]];
+          const dealii::Point<2> &b = vertices[ends[f][1]];
+          if (side_kinds[f] != SideKind::arc)
+            {
+              net[middle_index[f]] = homogeneous(0.5 * (a + b), 1.);
+              continue;
+            }
+          const double radius = a.distance(arc_center);
+          check_radius("quadrilateral arc side", radius);
+          AssertThrow(
+            std::abs(b.distance(arc_center) - radius) <= 1e-10 * radius,
+            dealii::ExcMessage("quadrilateral: the ends of arc side " +
+                               std::to_string(f) + " are at distances " +
+                               to_string(radius) + " and " +
+                               to_string(b.distance(arc_center)) +
+                               " from the arc centre; they must be equal"));
+          const dealii::Tensor<1, 2> mid = 0.5 * (a + b) - arc_center;
+          // cos of half the opening angle.
+          const double half_cosine = mid.norm() / radius;
+          AssertThrow(half_cosine > 1e-6,
+                      dealii::ExcMessage(
+                        "quadrilateral: arc side " + std::to_string(f) +
+                        " spans half a circle or more; split the patch"));
+          const dealii::Point<2> apex =
+            arc_center + (radius / half_cosine) * (mid / mid.norm());
+          net[middle_index[f]] = homogeneous(apex, half_cosine);
+        }
+      net[4] = dealii::Point<3>();
+      for (const unsigned int m : middle_index)
+        net[4] += 0.5 * net[m];
+      for (const unsigned int c : corner_index)
+        net[4] -= 0.25 * net[c];
+      AssertThrow(net[4][2] > 0.,
+                  dealii::ExcMessage("quadrilateral: the blended interior "
+                                     "weight is not positive"));
+
+      const KnotVector              kv({0., 0., 0., 1., 1., 1.}, 2);
+      std::vector<dealii::Point<2>> points(9);
+      std::vector<double>           weights(9);
+      for (unsigned int a = 0; a < 9; ++a)
+        {
+          weights[a] = net[a][2];
+          points[a] =
+            dealii::Point<2>(net[a][0] / weights[a], net[a][1] / weights[a]);
+        }
+      PatchGeometry<2> geometry;
+      geometry.patch = NURBSPatch<2>({{kv, kv}}, points, weights);
+      std::copy(side_kinds.begin(),
+                side_kinds.end(),
+                geometry.side_kinds.begin());
       return geometry;
     }
 
