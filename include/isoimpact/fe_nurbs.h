@@ -7,6 +7,7 @@
 
 #include <deal.II/fe/fe.h>
 
+#include <isoimpact/nurbs_multipatch.h>
 #include <isoimpact/nurbs_patch.h>
 
 #include <memory>
@@ -44,9 +45,13 @@ namespace isoimpact
   {
   public:
     explicit FE_NURBS(
+      const std::shared_ptr<const nurbs::MultiPatch<dim>> &patches);
+
+    // One patch.
+    explicit FE_NURBS(
       const std::shared_ptr<const nurbs::NURBSPatch<dim>> &patch);
 
-    const nurbs::NURBSPatch<dim> &
+    const nurbs::MultiPatch<dim> &
     get_patch() const
     {
       return *patch;
@@ -152,7 +157,7 @@ namespace isoimpact
       internal::FEValuesImplementation::FiniteElementRelatedData<dim, dim>
         &output_data) const;
 
-    std::shared_ptr<const nurbs::NURBSPatch<dim>> patch;
+    std::shared_ptr<const nurbs::MultiPatch<dim>> patch;
   };
 } // namespace isoimpact
 

@@ -7,6 +7,7 @@
 
 #include <deal.II/fe/mapping.h>
 
+#include <isoimpact/nurbs_multipatch.h>
 #include <isoimpact/nurbs_patch.h>
 
 #include <memory>
@@ -40,9 +41,13 @@ namespace isoimpact
   {
   public:
     explicit MappingNURBS(
+      const std::shared_ptr<const nurbs::MultiPatch<dim>> &patches);
+
+    // One patch.
+    explicit MappingNURBS(
       const std::shared_ptr<const nurbs::NURBSPatch<dim>> &patch);
 
-    const nurbs::NURBSPatch<dim> &
+    const nurbs::MultiPatch<dim> &
     get_patch() const
     {
       return *patch;
@@ -195,7 +200,7 @@ namespace isoimpact
       internal::FEValuesImplementation::MappingRelatedData<dim, dim>
         &output_data) const;
 
-    std::shared_ptr<const nurbs::NURBSPatch<dim>> patch;
+    std::shared_ptr<const nurbs::MultiPatch<dim>> patch;
   };
 } // namespace isoimpact
 

@@ -19,7 +19,7 @@ namespace isoimpact
   {
     template <int dim>
     FiniteElementData<dim>
-    make_fe_data(const nurbs::NURBSPatch<dim> &patch)
+    make_fe_data(const nurbs::MultiPatch<dim> &patch)
     {
       std::vector<unsigned int> dofs_per_object(dim + 1, 0);
       dofs_per_object[dim] = patch.n_functions_per_element();
@@ -33,8 +33,8 @@ namespace isoimpact
     }
 
     template <int dim>
-    const nurbs::NURBSPatch<dim> &
-    checked(const std::shared_ptr<const nurbs::NURBSPatch<dim>> &patch)
+    const nurbs::MultiPatch<dim> &
+    checked(const std::shared_ptr<const nurbs::MultiPatch<dim>> &patch)
     {
       AssertThrow(patch != nullptr, ExcMessage("FE_NURBS: no patch given"));
       return *patch;
@@ -46,6 +46,14 @@ namespace isoimpact
   template <int dim>
   FE_NURBS<dim>::FE_NURBS(
     const std::shared_ptr<const nurbs::NURBSPatch<dim>> &patch)
+    : FE_NURBS(nurbs::as_multipatch(patch))
+  {}
+
+
+
+  template <int dim>
+  FE_NURBS<dim>::FE_NURBS(
+    const std::shared_ptr<const nurbs::MultiPatch<dim>> &patch)
     : FiniteElement<dim>(
         make_fe_data(checked(patch)),
         std::vector<bool>(patch->n_functions_per_element(), true),
@@ -174,7 +182,7 @@ namespace isoimpact
     AssertThrow(element < patch->n_elements(),
                 ExcMessage("FE_NURBS: the cell's user_index " +
                            std::to_string(element) +
-                           " is not an element of the patch (0 to " +
+                           " is not an element of the patches (0 to " +
                            std::to_string(patch->n_elements()) + "-1)"));
     const UpdateFlags  flags    = data.update_each;
     const unsigned int n_points = points.size();

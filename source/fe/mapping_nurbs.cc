@@ -21,13 +21,13 @@ namespace isoimpact
     template <int dim>
     unsigned int
     element_of(const typename Triangulation<dim>::cell_iterator &cell,
-               const nurbs::NURBSPatch<dim>                     &patch)
+               const nurbs::MultiPatch<dim>                     &patch)
     {
       const unsigned int element = cell->user_index();
       AssertThrow(element < patch.n_elements(),
                   ExcMessage("MappingNURBS: the cell's user_index " +
                              std::to_string(element) +
-                             " is not an element of the patch (0 to " +
+                             " is not an element of the patches (0 to " +
                              std::to_string(patch.n_elements()) + "-1)"));
       return element;
     }
@@ -64,6 +64,14 @@ namespace isoimpact
   template <int dim>
   MappingNURBS<dim>::MappingNURBS(
     const std::shared_ptr<const nurbs::NURBSPatch<dim>> &patch)
+    : MappingNURBS(nurbs::as_multipatch(patch))
+  {}
+
+
+
+  template <int dim>
+  MappingNURBS<dim>::MappingNURBS(
+    const std::shared_ptr<const nurbs::MultiPatch<dim>> &patch)
     : patch(patch)
   {
     AssertThrow(patch != nullptr, ExcMessage("MappingNURBS: no patch given"));
