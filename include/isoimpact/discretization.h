@@ -70,11 +70,16 @@ namespace isoimpact
 
   /**
    * Sets BoundarySegment::free_end by matching the end points of the
-   * segments (in the reference configuration).
+   * segments (in the reference configuration). An end that meets an end of
+   * a `continuation` segment is not free either: pass the segments of the
+   * symmetry cut, where the surface goes on in its mirror image, so that a
+   * projection beyond that end is clamped to it instead of dropped.
    */
   template <int dim>
   void
-  mark_free_segment_ends(std::vector<BoundarySegment<dim>> &segments);
+  mark_free_segment_ends(
+    std::vector<BoundarySegment<dim>>       &segments,
+    const std::vector<BoundarySegment<dim>> &continuation = {});
 
   /**
    * Bernstein coefficients of nodal functions from their values at the
@@ -187,6 +192,16 @@ namespace isoimpact
     to_dof_handler_vector(const Vector<double> &unknowns,
                           Vector<double>       &dof_handler_vector) const = 0;
   };
+
+  /**
+   * The coarse mesh of a body, where FEA and IGA both start: half disk =
+   * GridGenerator::half_hyper_ball (4 cells), full disk = hyper_ball (5
+   * cells), rectangle = one cell. Boundary ids: curved_boundary_id on arcs,
+   * symmetry_boundary_id on the cut of the half disk, rectangle 0, 1, 2, 3
+   * = left, right, bottom, top. No manifold is attached.
+   */
+  void
+  make_coarse_mesh(const BodyGeometry &geometry, Triangulation<2> &mesh);
 
   /**
    * The factory of layer 3: `kind` is "fea" (FE_Q of the given degree with

@@ -1,5 +1,6 @@
-// Layer 3: isogeometric analysis on one NURBS patch: FESystem(FE_NURBS, dim)
-// with MappingNURBS; the unknowns are control-point displacements.
+// Layer 3: isogeometric analysis on NURBS patches glued C0:
+// FESystem(FE_NURBS, dim) with MappingNURBS; the unknowns are control-point
+// displacements.
 #ifndef isoimpact_discretization_iga_h
 #define isoimpact_discretization_iga_h
 
@@ -11,6 +12,7 @@
 #include <isoimpact/fe_nurbs.h>
 #include <isoimpact/mapping_nurbs.h>
 #include <isoimpact/nurbs_geometries.h>
+#include <isoimpact/nurbs_multipatch.h>
 
 #include <array>
 #include <memory>
@@ -19,21 +21,26 @@
 namespace isoimpact
 {
   /**
-   * One NURBS patch built from a BodyGeometry (half disk, full disk,
-   * rectangle) and refined: degree elevation to `degree` (>= 2 for the
-   * disks, whose circles need quadratic NURBS), then each span split into
-   * 2^global_refinements equal spans in every direction, then, if
-   * local_refinements > 0 and the body has a contact point (half disk),
-   * graded knots toward it: local_refinements layers halving the span
-   * touching the contact corner in both directions.
+   * NURBS patches built from a BodyGeometry: one biquadratic patch per cell
+   * of the body's coarse mesh (make_coarse_mesh(), the mesh the FEA
+   * discretisation starts from: 4 cells for the half disk, 5 for the disk,
+   * 1 for the rectangle), with exact arcs on the curved boundary
+   * (nurbs::quadrilateral()), degree-elevated to `degree` (>= 2: circles
+   * need quadratic NURBS), each span split into 2^global_refinements equal
+   * spans per direction. The patches share their interface control points
+   * (nurbs::MultiPatch), so the space is C0 across interfaces and
+   * C^(p-1) inside patches; every patch corner is a regular corner (det J >
+   * 0 everywhere), unlike a single patch covering a half disk. Graded
+   * (local) refinement is refused: knot insertion would have to be carried
+   * across patch interfaces.
    *
    * Mesh: one deal.II cell per knot span, vertices = images of the span
-   * corners, cell->user_index() = element index of the patch, faces oriented
-   * like the patch (cell face f lies on patch side f when at the boundary).
-   * Boundary ids of patch sides: arc sides BodyGeometry::curved_boundary_id,
-   * symmetry sides BodyGeometry::symmetry_boundary_id, other sides their
-   * side number f (rectangle: 0 left, 1 right, 2 bottom, 3 top, as in the
-   * FEA version).
+   * corners (shared across interfaces), cell->user_index() = global element
+   * of the MultiPatch, faces oriented like the patch (a boundary face f of
+   * a cell lies on side f of its patch). Boundary ids: those of the coarse
+   * mesh (arc BodyGeometry::curved_boundary_id, cut
+   * BodyGeometry::symmetry_boundary_id, rectangle 0..3 = left, right,
+   * bottom, top), as in the FEA version.
    *
    * Cell quadrature: QGauss(p+1) for polynomial patches (all weights
    * equal), QGauss(p+6) for rational ones (the rational integrands are
@@ -51,7 +58,9 @@ namespace isoimpact
 
     DiscretizationIGA(const BodyGeometry &geometry, const unsigned int degree);
 
-    // From a ready-made patch (it is used as is, without refinement).
+    // From one ready-made patch (used as is, without refinement). Side
+    // boundary ids: arc sides BodyGeometry::curved_boundary_id, symmetry
+    // sides BodyGeometry::symmetry_boundary_id, other sides their number f.
     DiscretizationIGA(const nurbs::PatchGeometry<dim> &patch_geometry);
 
     std::string
@@ -89,31 +98,40 @@ namespace isoimpact
     to_dof_handler_vector(const Vector<double> &unknowns,
                           Vector<double> &dof_handler_vector) const override;
 
-    const nurbs::NURBSPatch<dim> &
+    // The patches with their global control point numbering.
+    const nurbs::MultiPatch<dim> &
     get_patch() const
     {
-      return *patch;
-    }
-
-    // Boundary id given to patch side f.
-    types::boundary_id
-    side_boundary_id(const unsigned int side) const
-    {
-      return side_ids[side];
+      return *patches;
     }
 
   private:
-    void
-    initialize();
+    // Patches and the boundary id of each of their sides
+    // (numbers::internal_face_boundary_id on interfaces).
+    struct PatchSet
+    {
+      std::vector<nurbs::NURBSPatch<dim>>                  patches;
+      std::vector<std::array<types::boundary_id, 2 * dim>> side_ids;
+    };
 
-    nurbs::PatchGeometry<dim>                     geometry;
-    std::shared_ptr<const nurbs::NURBSPatch<dim>> patch;
-    std::array<types::boundary_id, 2 * dim>       side_ids;
-    Triangulation<dim>                            triangulation;
-    FESystem<dim>                                 fe;
-    MappingNURBS<dim>                             mapping;
-    QGauss<dim>                                   cell_quadrature;
-    DoFHandler<dim>                               dof_handler;
+    explicit DiscretizationIGA(const PatchSet &patch_set);
+
+    static PatchSet
+    make_patches(const BodyGeometry &geometry, const unsigned int degree);
+
+    static PatchSet
+    make_patches(const nurbs::PatchGeometry<dim> &patch_geometry);
+
+    void
+    make_mesh();
+
+    std::shared_ptr<const nurbs::MultiPatch<dim>>        patches;
+    std::vector<std::array<types::boundary_id, 2 * dim>> side_ids;
+    Triangulation<dim>                                   triangulation;
+    FESystem<dim>                                        fe;
+    MappingNURBS<dim>                                    mapping;
+    QGauss<dim>                                          cell_quadrature;
+    DoFHandler<dim>                                      dof_handler;
   };
 } // namespace isoimpact
 

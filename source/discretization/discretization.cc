@@ -1,6 +1,8 @@
 // Layer 3: what FEA and IGA share: boundary segments and the factory.
 #include <deal.II/base/exceptions.h>
 
+#include <deal.II/grid/grid_generator.h>
+
 #include <isoimpact/discretization.h>
 #include <isoimpact/discretization_fea.h>
 #include <isoimpact/discretization_iga.h>
@@ -96,37 +98,75 @@ namespace isoimpact
       }
   }
 
+  namespace
+  {
+    template <int dim>
+    std::vector<std::array<Point<dim>, 2>>
+    segment_ends(const std::vector<BoundarySegment<dim>> &segments)
+    {
+      std::vector<std::array<Point<dim>, 2>> ends(segments.size());
+      std::vector<double>                    values, derivatives;
+      for (unsigned int s = 0; s < segments.size(); ++s)
+        for (unsigned int e = 0; e < 2; ++e)
+          {
+            evaluate_segment_basis(segments[s], double(e), values, derivatives);
+            for (unsigned int k = 0; k < values.size(); ++k)
+              ends[s][e] += values[k] * segments[s].node_positions[k];
+          }
+      return ends;
+    }
+  } // namespace
+
   template <int dim>
   void
-  mark_free_segment_ends(std::vector<BoundarySegment<dim>> &segments)
+  mark_free_segment_ends(std::vector<BoundarySegment<dim>>       &segments,
+                         const std::vector<BoundarySegment<dim>> &continuation)
   {
-    std::vector<std::array<Point<dim>, 2>> ends(segments.size());
-    std::vector<double>                    lengths(segments.size());
-    std::vector<double>                    values, derivatives;
-    for (unsigned int s = 0; s < segments.size(); ++s)
-      for (unsigned int e = 0; e < 2; ++e)
-        {
-          evaluate_segment_basis(segments[s], double(e), values, derivatives);
-          Point<dim> x;
-          for (unsigned int k = 0; k < values.size(); ++k)
-            x += values[k] * segments[s].node_positions[k];
-          ends[s][e] = x;
-        }
-    for (unsigned int s = 0; s < segments.size(); ++s)
-      lengths[s] = ends[s][0].distance(ends[s][1]);
+    const auto ends  = segment_ends(segments);
+    const auto other = segment_ends(continuation);
     // Quadratic in the number of segments, but done once in set-up.
     for (unsigned int s = 0; s < segments.size(); ++s)
-      for (unsigned int e = 0; e < 2; ++e)
-        {
-          bool shared = false;
-          for (unsigned int t = 0; t < segments.size() && !shared; ++t)
-            if (t != s)
-              for (unsigned int f = 0; f < 2; ++f)
-                if (ends[s][e].distance(ends[t][f]) <
-                    1e-8 * std::max(lengths[s], lengths[t]))
-                  shared = true;
-          segments[s].free_end[e] = !shared;
-        }
+      {
+        const double tolerance = 1e-8 * ends[s][0].distance(ends[s][1]);
+        const auto   meets     = [&](const std::array<Point<dim>, 2> &pair,
+                               const Point<dim>                &x) {
+          return x.distance(pair[0]) < tolerance ||
+                 x.distance(pair[1]) < tolerance;
+        };
+        for (unsigned int e = 0; e < 2; ++e)
+          {
+            bool shared = false;
+            for (unsigned int t = 0; t < segments.size() && !shared; ++t)
+              shared = (t != s) && meets(ends[t], ends[s][e]);
+            for (unsigned int t = 0; t < other.size() && !shared; ++t)
+              shared = meets(other[t], ends[s][e]);
+            segments[s].free_end[e] = !shared;
+          }
+      }
+  }
+
+  void
+  make_coarse_mesh(const BodyGeometry &geometry, Triangulation<2> &mesh)
+  {
+    using Shape = BodyGeometry::Shape;
+    switch (geometry.shape)
+      {
+        case Shape::half_disk:
+          // Boundary 0: the arc; boundary 1: the cut x = center_x.
+          GridGenerator::half_hyper_ball(mesh,
+                                         geometry.center,
+                                         geometry.radius);
+          break;
+        case Shape::full_disk:
+          GridGenerator::hyper_ball(mesh, geometry.center, geometry.radius);
+          break;
+        case Shape::rectangle:
+          GridGenerator::hyper_rectangle(mesh,
+                                         geometry.lower_left,
+                                         geometry.upper_right,
+                                         true);
+          break;
+      }
   }
 
   template <int dim>
@@ -151,7 +191,8 @@ namespace isoimpact
                          std::vector<double> &,
                          std::vector<double> &);
   template void
-  mark_free_segment_ends(std::vector<BoundarySegment<2>> &);
+  mark_free_segment_ends(std::vector<BoundarySegment<2>> &,
+                         const std::vector<BoundarySegment<2>> &);
   template std::unique_ptr<Discretization<2>>
   create_discretization<2>(const std::string &,
                            const BodyGeometry &,

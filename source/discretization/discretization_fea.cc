@@ -7,7 +7,6 @@
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_values.h>
 
-#include <deal.II/grid/grid_generator.h>
 
 #include <deal.II/numerics/vector_tools.h>
 
@@ -53,25 +52,7 @@ namespace isoimpact
   {
     using Shape = BodyGeometry::Shape;
     const Point<dim> center(geometry.center);
-    switch (geometry.shape)
-      {
-        case Shape::half_disk:
-          // Boundary 0: the arc; boundary 1: the cut x = center_x.
-          GridGenerator::half_hyper_ball(triangulation,
-                                         center,
-                                         geometry.radius);
-          break;
-        case Shape::full_disk:
-          GridGenerator::hyper_ball(triangulation, center, geometry.radius);
-          break;
-        case Shape::rectangle:
-          // Boundaries 0, 1, 2, 3: left, right, bottom, top.
-          GridGenerator::hyper_rectangle(triangulation,
-                                         Point<dim>(geometry.lower_left),
-                                         Point<dim>(geometry.upper_right),
-                                         true);
-          break;
-      }
+    make_coarse_mesh(geometry, triangulation);
 
     if (geometry.shape != Shape::rectangle)
       {
@@ -281,7 +262,12 @@ namespace isoimpact
             segment.normal_orientation = (rotated * normal > 0) ? 1. : -1.;
             segments.push_back(segment);
           }
-    mark_free_segment_ends(segments);
+    // The contact surface goes on across the symmetry cut (mirror image).
+    mark_free_segment_ends(segments,
+                           boundary_id == BodyGeometry::symmetry_boundary_id ?
+                             std::vector<BoundarySegment<dim>>() :
+                             boundary_segments(
+                               BodyGeometry::symmetry_boundary_id));
     return segments;
   }
 

@@ -1,70 +1,19 @@
-// Layer 3: isogeometric analysis on one NURBS patch.
+// Layer 3: isogeometric analysis on NURBS patches glued C0.
 #include <deal.II/base/exceptions.h>
 
-#include <deal.II/fe/fe_values.h>
-
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
 #include <isoimpact/discretization_iga.h>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace isoimpact
 {
   namespace
   {
-    nurbs::PatchGeometry<2>
-    build_patch(const BodyGeometry &body, const unsigned int degree)
-    {
-      using Shape = BodyGeometry::Shape;
-      nurbs::PatchGeometry<2> geometry;
-      switch (body.shape)
-        {
-          case Shape::half_disk:
-            geometry = nurbs::half_disk(body.radius, body.center);
-            break;
-          case Shape::full_disk:
-            geometry = nurbs::full_disk(body.radius, body.center);
-            break;
-          case Shape::rectangle:
-            geometry = nurbs::rectangle(body.lower_left,
-                                        body.upper_right,
-                                        std::max(degree, 1u));
-            break;
-        }
-      for (unsigned int d = 0; d < 2; ++d)
-        {
-          const unsigned int present = geometry.patch.degree(d);
-          AssertThrow(degree >= present,
-                      ExcMessage("IGA degree " + std::to_string(degree) +
-                                 " is not allowed for this body: its exact "
-                                 "NURBS geometry has degree " +
-                                 std::to_string(present) +
-                                 " (circles need at least 2)"));
-          if (degree > present)
-            geometry.patch.elevate_degree(d, degree - present);
-        }
-      if (body.global_refinements > 0)
-        {
-          AssertThrow(body.global_refinements < 16,
-                      ExcMessage("IGA: too many global refinements (" +
-                                 std::to_string(body.global_refinements) +
-                                 ")"));
-          geometry.patch.refine_uniformly(1u << body.global_refinements);
-        }
-      if (body.local_refinements > 0 && geometry.has_contact_point)
-        for (unsigned int d = 0; d < 2; ++d)
-          {
-            const auto        &kv  = geometry.patch.knot_vector(d);
-            const double       mid = 0.5 * (kv.front() + kv.back());
-            const unsigned int side =
-              (geometry.contact_parameter[d] > mid) ? 1 : 0;
-            geometry.patch.refine_graded(d, side, body.local_refinements, 2.);
-          }
-      return geometry;
-    }
-
     // Gauss points per direction: p+1 integrate the mass and stiffness of a
     // polynomial (all weights equal) patch with affine geometry exactly.
     // With rational functions the integrands are rational and Gauss
@@ -74,12 +23,12 @@ namespace isoimpact
     // (assembly) pays for them.
     template <int dim>
     unsigned int
-    quadrature_size(const nurbs::NURBSPatch<dim> &patch)
+    quadrature_size(const nurbs::MultiPatch<dim> &patches)
     {
       unsigned int degree = 0;
       for (unsigned int d = 0; d < dim; ++d)
-        degree = std::max(degree, patch.degree(d));
-      const auto &weights = patch.weights();
+        degree = std::max(degree, patches.degree(d));
+      const auto &weights = patches.weights();
       const auto extremes = std::minmax_element(weights.begin(), weights.end());
       const bool rational =
         *extremes.second - *extremes.first > 1e-14 * *extremes.second;
@@ -90,100 +39,206 @@ namespace isoimpact
 
 
   template <int dim>
+  typename DiscretizationIGA<dim>::PatchSet
+  DiscretizationIGA<dim>::make_patches(const BodyGeometry &body,
+                                       const unsigned int  degree)
+  {
+    static_assert(dim == 2, "NURBS bodies are built for dim = 2");
+    AssertThrow(body.local_refinements == 0,
+                ExcMessage("IGA: Local refinements = " +
+                           std::to_string(body.local_refinements) +
+                           " is not available (graded knots would have to "
+                           "be carried across patch interfaces); allowed is "
+                           "0, refine with Global refinements"));
+    AssertThrow(body.global_refinements < 16,
+                ExcMessage("IGA: Global refinements = " +
+                           std::to_string(body.global_refinements) +
+                           " is too many; allowed are 0 to 15"));
+    const bool curved = body.shape != BodyGeometry::Shape::rectangle;
+
+    Triangulation<2> coarse;
+    make_coarse_mesh(body, coarse);
+    PatchSet result;
+    for (const auto &cell : coarse.active_cell_iterators())
+      {
+        std::array<Point<2>, 4>                 vertices;
+        std::array<nurbs::SideKind, 4>          kinds;
+        std::array<types::boundary_id, 2 * dim> ids;
+        for (unsigned int v = 0; v < 4; ++v)
+          vertices[v] = cell->vertex(v);
+        for (unsigned int f = 0; f < 4; ++f)
+          {
+            const auto face = cell->face(f);
+            ids[f]          = face->at_boundary() ? face->boundary_id() :
+                                                    numbers::internal_face_boundary_id;
+            kinds[f]        = nurbs::SideKind::unspecified;
+            if (face->at_boundary() && curved &&
+                face->boundary_id() == BodyGeometry::curved_boundary_id)
+              kinds[f] = nurbs::SideKind::arc;
+            else if (face->at_boundary())
+              kinds[f] = nurbs::SideKind::straight;
+          }
+        auto patch = nurbs::quadrilateral(vertices, kinds, body.center).patch;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const unsigned int present = patch.degree(d);
+            AssertThrow(degree >= present,
+                        ExcMessage("IGA degree " + std::to_string(degree) +
+                                   " is not allowed for this body: its exact "
+                                   "NURBS geometry has degree " +
+                                   std::to_string(present) +
+                                   " (circles need at least 2)"));
+            if (degree > present)
+              patch.elevate_degree(d, degree - present);
+          }
+        if (body.global_refinements > 0)
+          patch.refine_uniformly(1u << body.global_refinements);
+        result.patches.push_back(patch);
+        result.side_ids.push_back(ids);
+      }
+    return result;
+  }
+
+
+
+  template <int dim>
+  typename DiscretizationIGA<dim>::PatchSet
+  DiscretizationIGA<dim>::make_patches(
+    const nurbs::PatchGeometry<dim> &geometry)
+  {
+    PatchSet result;
+    result.patches.push_back(geometry.patch);
+    result.side_ids.emplace_back();
+    for (unsigned int f = 0; f < 2 * dim; ++f)
+      switch (geometry.side_kinds[f])
+        {
+          case nurbs::SideKind::arc:
+            result.side_ids[0][f] = BodyGeometry::curved_boundary_id;
+            break;
+          case nurbs::SideKind::symmetry:
+            result.side_ids[0][f] = BodyGeometry::symmetry_boundary_id;
+            break;
+          default:
+            result.side_ids[0][f] = f;
+        }
+    return result;
+  }
+
+
+
+  template <int dim>
   DiscretizationIGA<dim>::DiscretizationIGA(const BodyGeometry &body,
                                             const unsigned int  degree)
-    : geometry(build_patch(body, degree))
-    , patch(std::make_shared<const nurbs::NURBSPatch<dim>>(geometry.patch))
-    , fe(FE_NURBS<dim>(patch), dim)
-    , mapping(patch)
-    , cell_quadrature(quadrature_size(*patch))
-  {
-    initialize();
-  }
+    : DiscretizationIGA(make_patches(body, degree))
+  {}
 
 
 
   template <int dim>
   DiscretizationIGA<dim>::DiscretizationIGA(
     const nurbs::PatchGeometry<dim> &patch_geometry)
-    : geometry(patch_geometry)
-    , patch(std::make_shared<const nurbs::NURBSPatch<dim>>(geometry.patch))
-    , fe(FE_NURBS<dim>(patch), dim)
-    , mapping(patch)
-    , cell_quadrature(quadrature_size(*patch))
+    : DiscretizationIGA(make_patches(patch_geometry))
+  {}
+
+
+
+  template <int dim>
+  DiscretizationIGA<dim>::DiscretizationIGA(const PatchSet &patch_set)
+    : patches(std::make_shared<const nurbs::MultiPatch<dim>>(patch_set.patches))
+    , side_ids(patch_set.side_ids)
+    , fe(FE_NURBS<dim>(patches), dim)
+    , mapping(patches)
+    , cell_quadrature(quadrature_size(*patches))
   {
-    initialize();
+    make_mesh();
+    dof_handler.reinit(triangulation);
+    dof_handler.distribute_dofs(fe);
   }
 
 
 
   template <int dim>
   void
-  DiscretizationIGA<dim>::initialize()
+  DiscretizationIGA<dim>::make_mesh()
   {
-    for (unsigned int f = 0; f < 2 * dim; ++f)
-      switch (geometry.side_kinds[f])
-        {
-          case nurbs::SideKind::arc:
-            side_ids[f] = BodyGeometry::curved_boundary_id;
-            break;
-          case nurbs::SideKind::symmetry:
-            side_ids[f] = BodyGeometry::symmetry_boundary_id;
-            break;
-          default:
-            side_ids[f] = f;
-        }
-
-    // Vertices: the images of the breakpoints, lexicographic.
-    const auto n_elements = patch->n_elements_per_direction();
-    std::array<std::vector<double>, dim> breakpoints;
-    for (unsigned int d = 0; d < dim; ++d)
-      breakpoints[d] = patch->knot_vector(d).breakpoints();
-    std::vector<Point<dim>> vertices;
-    vertices.reserve((n_elements[0] + 1) * (n_elements[1] + 1));
-    for (unsigned int j = 0; j <= n_elements[1]; ++j)
-      for (unsigned int i = 0; i <= n_elements[0]; ++i)
-        vertices.push_back(
-          patch->evaluate(Point<dim>(breakpoints[0][i], breakpoints[1][j])));
-
-    std::vector<CellData<dim>> cells(patch->n_elements());
-    for (unsigned int e = 0; e < patch->n_elements(); ++e)
+    // Vertices: the images of the breakpoints of every patch, lexicographic;
+    // those on interfaces appear twice and are merged below.
+    std::vector<Point<dim>>    vertices;
+    std::vector<CellData<dim>> cells;
+    std::vector<unsigned int>  cell_elements;
+    double                     extent = 0.;
+    for (unsigned int p = 0; p < patches->n_patches(); ++p)
       {
-        const auto         index = patch->element_multi_index(e);
-        const unsigned int v0    = index[0] + (n_elements[0] + 1) * index[1];
-        cells[e].vertices[0]     = v0;
-        cells[e].vertices[1]     = v0 + 1;
-        cells[e].vertices[2]     = v0 + n_elements[0] + 1;
-        cells[e].vertices[3]     = v0 + n_elements[0] + 2;
-        cells[e].material_id     = 0;
+        const auto        &patch      = patches->patch(p);
+        const auto         n_elements = patch.n_elements_per_direction();
+        const unsigned int offset     = vertices.size();
+        std::array<std::vector<double>, dim> breakpoints;
+        for (unsigned int d = 0; d < dim; ++d)
+          breakpoints[d] = patch.knot_vector(d).breakpoints();
+        for (unsigned int j = 0; j <= n_elements[1]; ++j)
+          for (unsigned int i = 0; i <= n_elements[0]; ++i)
+            vertices.push_back(
+              patch.evaluate(Point<dim>(breakpoints[0][i], breakpoints[1][j])));
+        for (unsigned int e = 0; e < patch.n_elements(); ++e)
+          {
+            const auto         index = patch.element_multi_index(e);
+            const unsigned int v0 =
+              offset + index[0] + (n_elements[0] + 1) * index[1];
+            CellData<dim> cell;
+            cell.vertices[0] = v0;
+            cell.vertices[1] = v0 + 1;
+            cell.vertices[2] = v0 + n_elements[0] + 1;
+            cell.vertices[3] = v0 + n_elements[0] + 2;
+            cells.push_back(cell);
+            cell_elements.push_back(patches->global_element(p, e));
+          }
       }
-    triangulation.create_triangulation(vertices, cells, SubCellData());
+    for (const auto &x : vertices)
+      extent = std::max(extent, x.distance(vertices.front()));
+    SubCellData               no_subcell_data;
+    std::vector<unsigned int> all_vertices;
+    GridTools::delete_duplicated_vertices(vertices,
+                                          cells,
+                                          no_subcell_data,
+                                          all_vertices,
+                                          1e-10 * extent);
+    GridTools::delete_unused_vertices(vertices, cells, no_subcell_data);
 
-    // Element index from the first vertex (robust against any reordering of
-    // the cells by create_triangulation), then the boundary ids.
+    // The element of each cell by its vertices in order (create_triangulation
+    // may reorder cells; a reoriented cell would not be found).
+    std::map<std::vector<unsigned int>, unsigned int> element_of_vertices;
+    for (unsigned int c = 0; c < cells.size(); ++c)
+      element_of_vertices[std::vector<unsigned int>(cells[c].vertices.begin(),
+                                                    cells[c].vertices.end())] =
+        cell_elements[c];
+    triangulation.create_triangulation(vertices, cells, no_subcell_data);
+
     for (const auto &cell : triangulation.active_cell_iterators())
       {
-        const unsigned int            v0 = cell->vertex_index(0);
-        std::array<unsigned int, dim> index;
-        index[0] = v0 % (n_elements[0] + 1);
-        index[1] = v0 / (n_elements[0] + 1);
-        AssertThrow(index[0] < n_elements[0] && index[1] < n_elements[1] &&
-                      cell->vertex_index(3) == v0 + n_elements[0] + 2,
-                    ExcInternalError());
-        cell->set_user_index(patch->element_index(index));
+        std::vector<unsigned int> key;
+        for (const unsigned int v : cell->vertex_indices())
+          key.push_back(cell->vertex_index(v));
+        const auto found = element_of_vertices.find(key);
+        AssertThrow(found != element_of_vertices.end(),
+                    ExcMessage("IGA mesh: a cell was reoriented by the "
+                               "triangulation; the patches are not "
+                               "consistently oriented"));
+        cell->set_user_index(found->second);
+        const auto [p, e]    = patches->local_element(found->second);
+        const auto index     = patches->patch(p).element_multi_index(e);
+        const auto n_per_dir = patches->patch(p).n_elements_per_direction();
         for (unsigned int f = 0; f < 2 * dim; ++f)
           if (cell->face(f)->at_boundary())
             {
               const unsigned int d = f / 2, s = f % 2;
-              AssertThrow((s == 0 && index[d] == 0) ||
-                            (s == 1 && index[d] == n_elements[d] - 1),
+              AssertThrow(((s == 0 && index[d] == 0) ||
+                           (s == 1 && index[d] == n_per_dir[d] - 1)) &&
+                            side_ids[p][f] !=
+                              numbers::internal_face_boundary_id,
                           ExcInternalError());
-              cell->face(f)->set_boundary_id(side_ids[f]);
+              cell->face(f)->set_boundary_id(side_ids[p][f]);
             }
       }
-
-    dof_handler.reinit(triangulation);
-    dof_handler.distribute_dofs(fe);
   }
 
 
@@ -193,8 +248,10 @@ namespace isoimpact
   DiscretizationIGA<dim>::name() const
   {
     return "IGA, " + fe.get_name() + " on " +
-           std::to_string(patch->n_elements()) + " knot spans, " +
-           std::to_string(patch->n_control_points()) +
+           std::to_string(patches->n_patches()) + " patch" +
+           (patches->n_patches() > 1 ? "es, " : ", ") +
+           std::to_string(patches->n_elements()) + " knot spans, " +
+           std::to_string(patches->n_control_points()) +
            " control points, MappingNURBS";
   }
 
@@ -237,7 +294,7 @@ namespace isoimpact
   types::global_dof_index
   DiscretizationIGA<dim>::n_dofs() const
   {
-    return types::global_dof_index(dim) * patch->n_control_points();
+    return types::global_dof_index(dim) * patches->n_control_points();
   }
 
   template <int dim>
@@ -247,7 +304,7 @@ namespace isoimpact
     std::vector<types::global_dof_index> &indices) const
   {
     thread_local std::vector<unsigned int> control_points;
-    patch->element_control_points(cell->user_index(), control_points);
+    patches->element_control_points(cell->user_index(), control_points);
     indices.resize(fe.n_dofs_per_cell());
     for (unsigned int i = 0; i < indices.size(); ++i)
       {
@@ -269,14 +326,15 @@ namespace isoimpact
   Point<dim>
   DiscretizationIGA<dim>::dof_position(const types::global_dof_index dof) const
   {
-    return patch->control_points()[dof / dim];
+    return patches->control_points()[dof / dim];
   }
 
   template <int dim>
   void
   DiscretizationIGA<dim>::make_constraints(AffineConstraints<double> &) const
   {
-    // One patch, no hanging nodes: nothing to constrain.
+    // Interfaces are glued by shared control points, no hanging nodes:
+    // nothing to constrain.
   }
 
   template <int dim>
@@ -289,15 +347,18 @@ namespace isoimpact
     AssertThrow(component < dim, ExcIndexRange(component, 0, dim));
     // The control points of a side alone define the side's curve (open knot
     // vectors), so fixing their component fixes it on the whole side.
-    for (unsigned int f = 0; f < 2 * dim; ++f)
-      if (side_ids[f] == boundary_id)
-        for (const unsigned int a : patch->side_control_points(f))
-          {
-            const types::global_dof_index dof =
-              types::global_dof_index(dim) * a + component;
-            if (!constraints.is_constrained(dof))
-              constraints.add_line(dof);
-          }
+    for (unsigned int p = 0; p < patches->n_patches(); ++p)
+      for (unsigned int f = 0; f < 2 * dim; ++f)
+        if (side_ids[p][f] == boundary_id)
+          for (const unsigned int a : patches->patch(p).side_control_points(f))
+            {
+              const types::global_dof_index dof =
+                types::global_dof_index(dim) *
+                  patches->global_control_point(p, a) +
+                component;
+              if (!constraints.is_constrained(dof))
+                constraints.add_line(dof);
+            }
   }
 
   template <int dim>
@@ -308,70 +369,79 @@ namespace isoimpact
     AssertThrow(dim == 2,
                 ExcMessage("boundary segments are implemented for dim = 2"));
     std::vector<BoundarySegment<dim>> segments;
-    const auto                       &points  = patch->control_points();
-    const auto                       &weights = patch->weights();
-    for (unsigned int f = 0; f < 2 * dim; ++f)
-      if (side_ids[f] == boundary_id)
-        {
-          const unsigned int d = f / 2, s = f % 2;
-          const unsigned int t          = 1 - d; // direction along the side
-          const auto        &kv         = patch->knot_vector(t);
-          const auto         extraction = kv.extraction_operators();
-          const unsigned int p          = kv.degree();
-          const unsigned int fixed_index =
-            (s == 0) ? 0 : patch->knot_vector(d).n_basis_functions() - 1;
-          const double fixed_parameter = (s == 0) ?
-                                           patch->knot_vector(d).front() :
-                                           patch->knot_vector(d).back();
-          for (unsigned int span = 0; span < kv.n_spans(); ++span)
-            {
-              BoundarySegment<dim> segment;
-              segment.degree = p;
-              segment.node_dofs.resize(p + 1);
-              segment.node_positions.resize(p + 1);
-              segment.node_weights.resize(p + 1);
-              for (unsigned int l = 0; l <= p; ++l)
-                {
-                  std::array<unsigned int, dim> multi_index;
-                  multi_index[d] = fixed_index;
-                  multi_index[t] = kv.first_basis_function(span) + l;
-                  const unsigned int a =
-                    patch->control_point_index(multi_index);
-                  for (unsigned int c = 0; c < dim; ++c)
-                    segment.node_dofs[l][c] =
-                      types::global_dof_index(dim) * a + c;
-                  segment.node_positions[l] = points[a];
-                  segment.node_weights[l]   = weights[a];
-                }
-              segment.bernstein_coefficients = extraction[span];
+    for (unsigned int p = 0; p < patches->n_patches(); ++p)
+      for (unsigned int f = 0; f < 2 * dim; ++f)
+        if (side_ids[p][f] == boundary_id)
+          {
+            const auto        &patch   = patches->patch(p);
+            const auto        &points  = patch.control_points();
+            const auto        &weights = patch.weights();
+            const unsigned int d = f / 2, s = f % 2;
+            const unsigned int t          = 1 - d; // direction along the side
+            const auto        &kv         = patch.knot_vector(t);
+            const auto         extraction = kv.extraction_operators();
+            const unsigned int degree     = kv.degree();
+            const unsigned int fixed_index =
+              (s == 0) ? 0 : patch.knot_vector(d).n_basis_functions() - 1;
+            const double fixed_parameter = (s == 0) ?
+                                             patch.knot_vector(d).front() :
+                                             patch.knot_vector(d).back();
+            for (unsigned int span = 0; span < kv.n_spans(); ++span)
+              {
+                BoundarySegment<dim> segment;
+                segment.degree = degree;
+                segment.node_dofs.resize(degree + 1);
+                segment.node_positions.resize(degree + 1);
+                segment.node_weights.resize(degree + 1);
+                for (unsigned int l = 0; l <= degree; ++l)
+                  {
+                    std::array<unsigned int, dim> multi_index;
+                    multi_index[d] = fixed_index;
+                    multi_index[t] = kv.first_basis_function(span) + l;
+                    const unsigned int a =
+                      patch.control_point_index(multi_index);
+                    for (unsigned int c = 0; c < dim; ++c)
+                      segment.node_dofs[l][c] =
+                        types::global_dof_index(dim) *
+                          patches->global_control_point(p, a) +
+                        c;
+                    segment.node_positions[l] = points[a];
+                    segment.node_weights[l]   = weights[a];
+                  }
+                segment.bernstein_coefficients = extraction[span];
 
-              // Orientation: the tangent (increasing eta) rotated by -90
-              // degrees against the outward normal cof(J) N at the middle.
-              const auto interval = kv.span_interval(span);
-              Point<dim> parameter;
-              parameter[d] = fixed_parameter;
-              parameter[t] = 0.5 * (interval.first + interval.second);
-              const auto     jacobian = patch->jacobian(parameter);
-              Tensor<2, dim> J;
-              for (unsigned int i = 0; i < dim; ++i)
-                for (unsigned int j = 0; j < dim; ++j)
-                  J[i][j] = jacobian[i][j];
-              Tensor<1, dim> unit_normal;
-              unit_normal[d]              = (s == 0) ? -1. : 1.;
-              const Tensor<1, dim> normal = cofactor(J) * unit_normal;
-              std::vector<double>  r, dr;
-              evaluate_segment_basis(segment, 0.5, r, dr);
-              Tensor<1, dim> tangent;
-              for (unsigned int k = 0; k <= p; ++k)
-                tangent += dr[k] * segment.node_positions[k];
-              Tensor<1, dim> rotated;
-              rotated[0]                 = tangent[1];
-              rotated[1]                 = -tangent[0];
-              segment.normal_orientation = (rotated * normal > 0) ? 1. : -1.;
-              segments.push_back(segment);
-            }
-        }
-    mark_free_segment_ends(segments);
+                // Orientation: the tangent (increasing eta) rotated by -90
+                // degrees against the outward normal cof(J) N at the middle.
+                const auto interval = kv.span_interval(span);
+                Point<dim> parameter;
+                parameter[d] = fixed_parameter;
+                parameter[t] = 0.5 * (interval.first + interval.second);
+                const auto     jacobian = patch.jacobian(parameter);
+                Tensor<2, dim> J;
+                for (unsigned int i = 0; i < dim; ++i)
+                  for (unsigned int j = 0; j < dim; ++j)
+                    J[i][j] = jacobian[i][j];
+                Tensor<1, dim> unit_normal;
+                unit_normal[d]              = (s == 0) ? -1. : 1.;
+                const Tensor<1, dim> normal = cofactor(J) * unit_normal;
+                std::vector<double>  r, dr;
+                evaluate_segment_basis(segment, 0.5, r, dr);
+                Tensor<1, dim> tangent;
+                for (unsigned int k = 0; k <= degree; ++k)
+                  tangent += dr[k] * segment.node_positions[k];
+                Tensor<1, dim> rotated;
+                rotated[0]                 = tangent[1];
+                rotated[1]                 = -tangent[0];
+                segment.normal_orientation = (rotated * normal > 0) ? 1. : -1.;
+                segments.push_back(segment);
+              }
+          }
+    // The contact surface goes on across the symmetry cut (mirror image).
+    mark_free_segment_ends(segments,
+                           boundary_id == BodyGeometry::symmetry_boundary_id ?
+                             std::vector<BoundarySegment<dim>>() :
+                             boundary_segments(
+                               BodyGeometry::symmetry_boundary_id));
     return segments;
   }
 
