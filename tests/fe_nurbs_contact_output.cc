@@ -1,5 +1,5 @@
 // The IGA discretisation with the rest of the library:
-// 1. Contact: a half disk (R = 4, centre (0, 4), graded knots) pushed 0.01
+// 1. Contact: a half disk (R = 4, centre (0, 4), four patches) pushed 0.01
 //    into the top side of a rectangle (IGA too) by a uniform displacement.
 //    The penalty contact built from boundary_segments() must push the disk
 //    up and the rectangle down with equal and opposite total forces
@@ -84,8 +84,7 @@ namespace
   check_contact()
   {
     BodyGeometry disk;
-    disk.global_refinements = 2;
-    disk.local_refinements  = 2;
+    disk.global_refinements = 3;
     BodyGeometry block;
     block.shape                     = BodyGeometry::Shape::rectangle;
     block.lower_left                = Point<2>(-1., -1.);
