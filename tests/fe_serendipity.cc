@@ -1,7 +1,9 @@
 // The 8-node serendipity quadrilateral FE_Serendipity<2> (Q8).
 // 1. The element against FE_Q(2) on faces: same face dofs, support points,
 //    traces and interface (hanging-node) constraints, to 1e-14 (exact
-//    numbers built from a Vandermonde inverse: round-off only).
+//    numbers built from a Vandermonde inverse: round-off only); the
+//    prolongation matrices map the nodal values of a quadratic to those on
+//    the children (1e-14).
 // 2. One undistorted element through the project's assembly (DiscretizationFEA
 //    with FEAElement::serendipity), per displacement component, as fractions
 //    of the element mass m_e = rho * area (exact values, e.g. Hughes, The
@@ -41,6 +43,8 @@
 //    cells: a field error that vanishes on the cell boundary (a bubble, the
 //    part of a biquadratic mapping Q8 cannot represent) changes the energy
 //    of a constant strain only to second order; hence the pointwise check.
+// 6. Contact segments of the half disk's arc with Q8: as many as with FE_Q(2),
+//    three nodes each, the curve through its nodes (1e-13).
 #include <deal.II/base/function.h>
 #include <deal.II/base/quadrature_lib.h>
 
@@ -230,6 +234,26 @@ namespace
         }
     CHECK_CLOSE_ABS(trace_difference, 0., 1e-14);
     CHECK_CLOSE_ABS(off_face, 0., 1e-14);
+
+    // Prolongation: the nodal values of a quadratic on the parent give
+    // those on each child (the space is invariant under the child maps).
+    const Field    quadratic(Field::quadratic);
+    Vector<double> parent_values(8), child_values(8);
+    for (unsigned int i = 0; i < 8; ++i)
+      parent_values(i) = quadratic.value(q8.get_unit_support_points()[i]);
+    double prolongation_error = 0.;
+    for (unsigned int c = 0; c < GeometryInfo<2>::max_children_per_cell; ++c)
+      {
+        q8.get_prolongation_matrix(c).vmult(child_values, parent_values);
+        for (unsigned int i = 0; i < 8; ++i)
+          prolongation_error = std::max(
+            prolongation_error,
+            std::abs(child_values(i) -
+                     quadratic.value(GeometryInfo<2>::child_to_cell_coordinates(
+                       q8.get_unit_support_points()[i],
+                       c))));
+      }
+    CHECK_CLOSE_ABS(prolongation_error, 0., 1e-14);
 
     // Degree other than 2: refused.
     bool refused = false;
@@ -565,6 +589,38 @@ main()
   BodyGeometry half_disk; // R = 4, centre (0, 4)
   half_disk.global_refinements = 2;
   check_patch_test("half disk", half_disk, 1e-10);
+
+  // Contact segments of the arc: as many as with FE_Q(2), three nodes each,
+  // and the segment curve passes through its nodes at eta = 0, 1/2, 1
+  // (nodal trace), to round-off relative to R = 4.
+  {
+    std::cout << "--- boundary segments of the half disk" << std::endl;
+    const auto q8 =
+      create_discretization<2>("fea", half_disk, 2, FEAElement::serendipity);
+    const auto q9       = create_discretization<2>("fea", half_disk, 2);
+    const auto segments = q8->boundary_segments(0);
+    CHECK_TRUE(segments.size() == q9->boundary_segments(0).size());
+    double              node_distance = 0.;
+    bool                three_nodes   = true;
+    std::vector<double> r, dr;
+    for (const auto &segment : segments)
+      {
+        three_nodes = three_nodes && segment.node_positions.size() == 3;
+        for (const double eta : {0., 0.5, 1.})
+          {
+            evaluate_segment_basis(segment, eta, r, dr);
+            Point<2> x;
+            for (unsigned int k = 0; k < r.size(); ++k)
+              x += r[k] * segment.node_positions[k];
+            double nearest = 1e300;
+            for (const auto &node : segment.node_positions)
+              nearest = std::min(nearest, x.distance(node));
+            node_distance = std::max(node_distance, nearest);
+          }
+      }
+    CHECK_TRUE(three_nodes);
+    CHECK_CLOSE_ABS(node_distance, 0., 1e-13);
+  }
 
   // The factory refuses Q8 for other degrees and for IGA.
   for (const auto &[kind, degree] : {std::make_pair(std::string("fea"), 3u),
