@@ -204,14 +204,34 @@ namespace isoimpact
   make_coarse_mesh(const BodyGeometry &geometry, Triangulation<2> &mesh);
 
   /**
-   * The factory of layer 3: `kind` is "fea" (FE_Q of the given degree with
-   * MappingQ on exact manifolds) or "iga" (NURBS of the given degree).
+   * The scalar element of an FEA discretisation: `lagrange` is FE_Q(p) (the
+   * 9-node Q9 for p = 2), `serendipity` the 8-node quadratic serendipity
+   * element FE_Serendipity (Q8, p = 2 only).
+   */
+  enum class FEAElement
+  {
+    lagrange,
+    serendipity
+  };
+
+  // "lagrange" or "serendipity"; anything else throws.
+  FEAElement
+  fea_element_from_string(const std::string &name);
+  std::string
+  to_string(const FEAElement element);
+
+  /**
+   * The factory of layer 3: `kind` is "fea" (FE_Q of the given degree, or
+   * with `fea_element` = serendipity the Q8 element, with MappingQ on exact
+   * manifolds) or "iga" (NURBS of the given degree; `fea_element` must then
+   * be lagrange, the default).
    */
   template <int dim>
   std::unique_ptr<Discretization<dim>>
   create_discretization(const std::string  &kind,
                         const BodyGeometry &geometry,
-                        const unsigned int  degree);
+                        const unsigned int  degree,
+                        const FEAElement    fea_element = FEAElement::lagrange);
 } // namespace isoimpact
 
 #endif

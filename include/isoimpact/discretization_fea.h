@@ -1,5 +1,6 @@
-// Layer 3: classical FEA, FESystem(FE_Q(p), dim) with MappingQ(p) on exact
-// manifolds (circles are represented to the mapping's order).
+// Layer 3: classical FEA, FESystem(FE_Q(p), dim) or FESystem(FE_Serendipity
+// (2), dim) with MappingQ(p) on exact manifolds (circles are represented to
+// the mapping's order).
 #ifndef isoimpact_discretization_fea_h
 #define isoimpact_discretization_fea_h
 
@@ -20,7 +21,11 @@ namespace isoimpact
   public:
     using typename Discretization<dim>::cell_iterator;
 
-    DiscretizationFEA(const BodyGeometry &geometry, const unsigned int degree);
+    // `element` = serendipity: the 8-node Q8 element, only for degree 2
+    // (other degrees throw); the mapping stays MappingQ(degree).
+    DiscretizationFEA(const BodyGeometry &geometry,
+                      const unsigned int  degree,
+                      const FEAElement    element = FEAElement::lagrange);
 
     std::string
     name() const override;

@@ -169,14 +169,41 @@ namespace isoimpact
       }
   }
 
+  FEAElement
+  fea_element_from_string(const std::string &name)
+  {
+    if (name == "lagrange")
+      return FEAElement::lagrange;
+    if (name == "serendipity")
+      return FEAElement::serendipity;
+    AssertThrow(false,
+                ExcMessage("unknown FEA element '" + name +
+                           "': allowed are 'lagrange' (FE_Q) and "
+                           "'serendipity' (8-node Q8, degree 2 only)"));
+    return FEAElement::lagrange;
+  }
+
+  std::string
+  to_string(const FEAElement element)
+  {
+    return element == FEAElement::serendipity ? "serendipity" : "lagrange";
+  }
+
   template <int dim>
   std::unique_ptr<Discretization<dim>>
   create_discretization(const std::string  &kind,
                         const BodyGeometry &geometry,
-                        const unsigned int  degree)
+                        const unsigned int  degree,
+                        const FEAElement    fea_element)
   {
     if (kind == "fea")
-      return std::make_unique<DiscretizationFEA<dim>>(geometry, degree);
+      return std::make_unique<DiscretizationFEA<dim>>(geometry,
+                                                      degree,
+                                                      fea_element);
+    AssertThrow(fea_element == FEAElement::lagrange,
+                ExcMessage("the FEA element '" + to_string(fea_element) +
+                           "' was asked for the discretisation '" + kind +
+                           "': it is allowed only with 'fea'"));
     if (kind == "iga")
       return std::make_unique<DiscretizationIGA<dim>>(geometry, degree);
     AssertThrow(false,
@@ -196,5 +223,6 @@ namespace isoimpact
   template std::unique_ptr<Discretization<2>>
   create_discretization<2>(const std::string &,
                            const BodyGeometry &,
-                           const unsigned int);
+                           const unsigned int,
+                           const FEAElement);
 } // namespace isoimpact

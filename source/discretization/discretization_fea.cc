@@ -11,19 +11,42 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <isoimpact/discretization_fea.h>
+#include <isoimpact/fe_serendipity.h>
 
 namespace isoimpact
 {
+  namespace
+  {
+    // The scalar element of the vector-valued one.
+    template <int dim>
+    std::unique_ptr<FiniteElement<dim>>
+    make_scalar_fe(const unsigned int degree, const FEAElement element)
+    {
+      AssertThrow(degree >= 1,
+                  ExcMessage("FEA element degree " + std::to_string(degree) +
+                             " is not allowed: the degree must be at least 1"));
+      if (element == FEAElement::lagrange)
+        return std::make_unique<FE_Q<dim>>(degree);
+      AssertThrow(degree == 2,
+                  ExcMessage("FEA element 'serendipity' with degree " +
+                             std::to_string(degree) +
+                             " is not allowed: the serendipity element (Q8) "
+                             "exists for degree 2 only; use degree 2 or the "
+                             "element 'lagrange' (FE_Q)"));
+      return std::make_unique<FE_Serendipity<dim>>(degree);
+    }
+  } // namespace
+
+
+
   template <int dim>
   DiscretizationFEA<dim>::DiscretizationFEA(const BodyGeometry &geometry,
-                                            const unsigned int  degree)
-    : fe(FE_Q<dim>(degree), dim)
+                                            const unsigned int  degree,
+                                            const FEAElement    element)
+    : fe(*make_scalar_fe<dim>(degree, element), dim)
     , mapping(degree)
     , cell_quadrature(degree + 1)
   {
-    AssertThrow(degree >= 1,
-                ExcMessage("FEA element degree " + std::to_string(degree) +
-                           " is not allowed: the degree must be at least 1"));
     make_mesh(geometry);
 
     dof_handler.reinit(triangulation);
