@@ -421,10 +421,11 @@ namespace isoimpact
                     body.geometry.upper_right[d],
                     "each coordinate must exceed the lower left corner's");
       }
-    require(parameters.contact.penalty > 0.,
-            "Contact/Penalty",
-            parameters.contact.penalty,
-            "it must be positive");
+    if (!parameters.obstacle.active()) // else not used
+      require(parameters.contact.penalty > 0.,
+              "Contact/Penalty",
+              parameters.contact.penalty,
+              "it must be positive");
     require(parameters.time_step > 0.,
             "Time integration/Time step",
             parameters.time_step,
