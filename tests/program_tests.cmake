@@ -50,3 +50,15 @@ add_test(NAME example_nurbs_builds_against_library
                     -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
     --test-command nurbs_quarter_annulus)
 set_tests_properties(example_nurbs_builds_against_library PROPERTIES TIMEOUT 900)
+
+# Scene reduction: one half cylinder against the rigid plane y = 0 against
+# the two-body run (same mesh, mass, time step; FEA and IGA), and against a
+# rigid cylinder.
+add_test(NAME rigid_obstacle_reduction
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/rigid_obstacle_reduction.py
+    $<TARGET_FILE:isoimpact_program>
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_rigid_plane_coarse.prm
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_consistent_coarse.prm
+    ${_work}/rigid_obstacle)
+set_tests_properties(rigid_obstacle_reduction PROPERTIES TIMEOUT 900)

@@ -14,12 +14,15 @@
 
 namespace isoimpact
 {
+  // A contact model and the bodies it acts on (indices into the bodies of
+  // CentralDifference): two for the two-body contact, one
+  // (second_body = invalid) for a rigid obstacle.
   template <int dim>
   struct ContactInteraction
   {
-    const PenaltyContact<dim> *contact;
-    unsigned int               first_body;
-    unsigned int               second_body;
+    const ContactModel<dim> *contact;
+    unsigned int             first_body;
+    unsigned int             second_body = numbers::invalid_unsigned_int;
   };
 
   // Energies per unit thickness (J/m) of the modelled bodies.

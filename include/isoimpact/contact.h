@@ -1,5 +1,8 @@
-// Layer 4: symmetric two-pass penalty contact between two deformable
-// bodies (frictionless, 2D), on the boundary segments of layer 3.
+// Layer 4: contact models seen by the time integrator (ContactModel), the
+// Gauss points of contact surfaces shared by all of them, and the symmetric
+// two-pass penalty contact between two deformable bodies (frictionless, 2D),
+// on the boundary segments of layer 3. The rigid obstacle is in
+// rigid_obstacle.h.
 //
 // Virtual work: delta Pi_c = sum over the two passes of
 //   eps_pass * integral over the slave surface of g_N delta g_N, g_N < 0,
@@ -16,6 +19,7 @@
 
 #include <isoimpact/discretization.h>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,14 +62,99 @@ namespace isoimpact
     std::vector<ContactPoint<dim>> points;
   };
 
+  /**
+   * A Gauss point of a contact surface: its segment, the segment's nodal
+   * functions there, the reference arc-length weight and the reference
+   * position. Shared by every contact model that integrates over boundary
+   * segments (two-body penalty contact, rigid obstacles).
+   */
   template <int dim>
-  class PenaltyContact
+  struct SurfaceQuadraturePoint
+  {
+    unsigned int        segment;
+    std::vector<double> shape_values;
+    double              weight;
+    Point<dim>          reference_position;
+  };
+
+  /**
+   * The Gauss points (n_points per segment, QGauss on eta in [0, 1]) of the
+   * segments. If `segment_lengths` is given it receives the reference
+   * length of each segment (the sum of its weights).
+   */
+  template <int dim>
+  std::vector<SurfaceQuadraturePoint<dim>>
+  surface_quadrature(const std::vector<BoundarySegment<dim>> &segments,
+                     const unsigned int                       n_points,
+                     std::vector<double> *segment_lengths = nullptr);
+
+  /**
+   * Current position sum_k R_k (X_k + u_k) of a Gauss point of `segment`.
+   */
+  template <int dim>
+  Point<dim>
+  current_position(const BoundarySegment<dim>        &segment,
+                   const SurfaceQuadraturePoint<dim> &point,
+                   const Vector<double>              &u);
+
+  /**
+   * Adds the point force `force` (traction times weight) at a point where
+   * the nodal functions of `segment` take `shape_values` to f.
+   */
+  template <int dim>
+  void
+  distribute_point_force(const BoundarySegment<dim> &segment,
+                         const std::vector<double>  &shape_values,
+                         const Tensor<1, dim>       &force,
+                         Vector<double>             &f);
+
+  /**
+   * The interface through which the time integrator (layer 5) sees a contact
+   * model: it acts on one body (against a rigid obstacle) or two, adds its
+   * forces for the current displacements and returns energy, pressure and
+   * the resultant on the first body.
+   */
+  template <int dim>
+  class ContactModel
+  {
+  public:
+    virtual ~ContactModel() = default;
+
+    // 1 or 2.
+    virtual unsigned int
+    n_bodies() const = 0;
+
+    // displacements and forces: one entry per body (n_bodies()).
+    virtual ContactResult<dim>
+    evaluate(const std::vector<const Vector<double> *> &displacements,
+             const std::vector<Vector<double> *>       &forces,
+             const bool record_points) const = 0;
+
+    // One line for the program's set-up report.
+    virtual std::string
+    description() const = 0;
+  };
+
+  template <int dim>
+  class PenaltyContact : public ContactModel<dim>
   {
   public:
     PenaltyContact(const ContactSettings            &settings,
                    std::vector<BoundarySegment<dim>> first_surface,
                    std::vector<BoundarySegment<dim>> second_surface);
-    ~PenaltyContact();
+    ~PenaltyContact() override;
+
+    unsigned int
+    n_bodies() const override;
+
+    // add_forces() with displacements[0..1] and forces[0..1].
+    ContactResult<dim>
+    evaluate(const std::vector<const Vector<double> *> &displacements,
+             const std::vector<Vector<double> *>       &forces,
+             const bool record_points) const override;
+
+    std::string
+    description() const override;
 
     // Adds the contact forces for displacements u (in each body's unknowns)
     // to the force vectors f; returns energy, pressure and resultant.

@@ -35,9 +35,36 @@ namespace isoimpact
     bool            symmetry_cut = true;
   };
 
+  // A rigid, fixed, frictionless obstacle (subsection Obstacle). With a
+  // type other than none the scene is Body 1 against the obstacle and
+  // Body 2 is ignored.
+  struct ObstacleParameters
+  {
+    std::string  type = "none";               // none, plane, cylinder
+    Point<2>     point;                       // plane
+    Tensor<1, 2> normal;                      // plane, out of the obstacle
+    Point<2>     center  = Point<2>(0., -4.); // cylinder
+    double       radius  = 4.;                // cylinder
+    double       penalty = 2e5;               // Pa/m
+
+    bool
+    active() const
+    {
+      return type != "none";
+    }
+  };
+
   struct Parameters
   {
     std::array<BodyParameters, 2> bodies;
+    ObstacleParameters            obstacle;
+
+    // The deformable bodies of the scene: 1 with an obstacle, else 2.
+    unsigned int
+    n_bodies() const
+    {
+      return obstacle.active() ? 1 : 2;
+    }
 
     // Discretization
     std::string  method = "fea";
@@ -59,7 +86,8 @@ namespace isoimpact
     double              progress_interval = 10.;  // percent of the run
     double              filter_window     = 0.01; // s
 
-    // A scene that models a half by symmetry: 2, else 1.
+    // A scene whose deformable bodies (n_bodies()) are all half disks with
+    // a symmetry cut models a half by symmetry: 2, else 1.
     double
     symmetry_factor() const;
 

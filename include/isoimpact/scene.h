@@ -1,11 +1,12 @@
-// Layer 6: a scene built from parameters: the bodies, their contact and the
-// analytic reference.
+// Layer 6: a scene built from parameters: the bodies, their contact (two
+// bodies, or Body 1 against a rigid obstacle) and the analytic reference.
 #ifndef isoimpact_scene_h
 #define isoimpact_scene_h
 
 #include <isoimpact/central_difference.h>
 #include <isoimpact/hertz_reference.h>
 #include <isoimpact/parameters.h>
+#include <isoimpact/rigid_obstacle.h>
 
 #include <memory>
 #include <vector>
@@ -14,17 +15,21 @@ namespace isoimpact
 {
   struct Scene
   {
-    std::vector<std::unique_ptr<ElasticBody<2>>>    bodies;
-    std::vector<std::unique_ptr<PenaltyContact<2>>> contacts;
-    std::vector<ContactInteraction<2>>              interactions;
+    std::vector<std::unique_ptr<ElasticBody<2>>>  bodies;
+    std::vector<std::unique_ptr<ContactModel<2>>> contacts;
+    std::vector<ContactInteraction<2>>            interactions;
 
     // Contact force and energies are reported for the full physical
     // bodies: the modelled ones times this factor.
     double symmetry_factor = 1.;
-    // Unit vector along the relative initial velocity of the two bodies:
-    // the contact force reported is the resultant on body 1 along it.
+    // Unit vector along the relative initial velocity of the two bodies (of
+    // the fixed obstacle and body 1): the contact force reported is the
+    // resultant on body 1 along it.
     Tensor<1, 2> impact_direction;
-    // The quasi-static Hertz impact, if the parameters ask for it.
+    // The quasi-static Hertz impact, if the parameters ask for it. Against
+    // a rigid plane: the impact of body 1 and its mirror image at twice the
+    // normal speed (the same force history); against a rigid cylinder: the
+    // rigid limit (modulus and density 1e12 times body 1's).
     std::unique_ptr<HertzImpactReference> reference;
 
     std::vector<ElasticBody<2> *>

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace isoimpact
 {
@@ -29,24 +30,74 @@ namespace isoimpact
   }
 
   template <int dim>
+  std::vector<SurfaceQuadraturePoint<dim>>
+  surface_quadrature(const std::vector<BoundarySegment<dim>> &segments,
+                     const unsigned int                       n_points,
+                     std::vector<double>                     *segment_lengths)
+  {
+    const QGauss<1>                          gauss(n_points);
+    std::vector<SurfaceQuadraturePoint<dim>> points;
+    std::vector<double>                      r, dr;
+    if (segment_lengths)
+      segment_lengths->clear();
+    for (unsigned int s = 0; s < segments.size(); ++s)
+      {
+        double length = 0.;
+        for (unsigned int q = 0; q < gauss.size(); ++q)
+          {
+            evaluate_segment_basis(segments[s], gauss.point(q)[0], r, dr);
+            Point<dim>     x;
+            Tensor<1, dim> dx;
+            for (unsigned int k = 0; k < r.size(); ++k)
+              {
+                x += r[k] * segments[s].node_positions[k];
+                dx += dr[k] * segments[s].node_positions[k];
+              }
+            const double weight = dx.norm() * gauss.weight(q);
+            points.push_back({s, r, weight, x});
+            length += weight;
+          }
+        if (segment_lengths)
+          segment_lengths->push_back(length);
+      }
+    return points;
+  }
+
+  template <int dim>
+  Point<dim>
+  current_position(const BoundarySegment<dim>        &segment,
+                   const SurfaceQuadraturePoint<dim> &point,
+                   const Vector<double>              &u)
+  {
+    Point<dim> x;
+    for (unsigned int k = 0; k < point.shape_values.size(); ++k)
+      for (unsigned int d = 0; d < dim; ++d)
+        x[d] += point.shape_values[k] *
+                (segment.node_positions[k][d] + u(segment.node_dofs[k][d]));
+    return x;
+  }
+
+  template <int dim>
+  void
+  distribute_point_force(const BoundarySegment<dim> &segment,
+                         const std::vector<double>  &shape_values,
+                         const Tensor<1, dim>       &force,
+                         Vector<double>             &f)
+  {
+    for (unsigned int k = 0; k < shape_values.size(); ++k)
+      for (unsigned int d = 0; d < dim; ++d)
+        f(segment.node_dofs[k][d]) += shape_values[k] * force[d];
+  }
+
+  template <int dim>
   struct PenaltyContact<dim>::Surface
   {
     using BoostPoint = bg::model::point<double, 2, bg::cs::cartesian>;
     using Box        = bg::model::box<BoostPoint>;
 
-    // A Gauss point of the surface as slave: its segment, the nodal
-    // functions there and the reference arc-length weight.
-    struct SlavePoint
-    {
-      unsigned int        segment;
-      std::vector<double> shape_values;
-      double              weight;
-      Point<dim>          reference_position;
-    };
-
-    std::vector<BoundarySegment<dim>> segments;
-    std::vector<double>               reference_lengths;
-    std::vector<SlavePoint>           slave_points;
+    std::vector<BoundarySegment<dim>>        segments;
+    std::vector<double>                      reference_lengths;
+    std::vector<SurfaceQuadraturePoint<dim>> slave_points;
 
     // Scratch of one evaluation: current node positions per segment and the
     // R-tree of their bounding boxes.
@@ -56,28 +107,9 @@ namespace isoimpact
     Surface(std::vector<BoundarySegment<dim>> segments_in,
             const unsigned int                n_quadrature_points)
       : segments(std::move(segments_in))
+      , slave_points(
+          surface_quadrature(segments, n_quadrature_points, &reference_lengths))
     {
-      const QGauss<1>     gauss(n_quadrature_points);
-      std::vector<double> r, dr;
-      for (unsigned int s = 0; s < segments.size(); ++s)
-        {
-          double length = 0.;
-          for (unsigned int q = 0; q < gauss.size(); ++q)
-            {
-              evaluate_segment_basis(segments[s], gauss.point(q)[0], r, dr);
-              Point<dim>     x;
-              Tensor<1, dim> dx;
-              for (unsigned int k = 0; k < r.size(); ++k)
-                {
-                  x += r[k] * segments[s].node_positions[k];
-                  dx += dr[k] * segments[s].node_positions[k];
-                }
-              const double weight = dx.norm() * gauss.weight(q);
-              slave_points.push_back({s, r, weight, x});
-              length += weight;
-            }
-          reference_lengths.push_back(length);
-        }
       current_nodes.resize(segments.size());
     }
 
@@ -247,6 +279,41 @@ namespace isoimpact
 
   template <int dim>
   unsigned int
+  PenaltyContact<dim>::n_bodies() const
+  {
+    return 2;
+  }
+
+  template <int dim>
+  ContactResult<dim>
+  PenaltyContact<dim>::evaluate(
+    const std::vector<const Vector<double> *> &displacements,
+    const std::vector<Vector<double> *>       &forces,
+    const bool                                 record_points) const
+  {
+    AssertDimension(displacements.size(), 2);
+    AssertDimension(forces.size(), 2);
+    return add_forces(*displacements[0],
+                      *displacements[1],
+                      *forces[0],
+                      *forces[1],
+                      record_points);
+  }
+
+  template <int dim>
+  std::string
+  PenaltyContact<dim>::description() const
+  {
+    std::ostringstream s;
+    s << "two-body penalty " << settings.penalty << " Pa/m, "
+      << settings.n_quadrature_points
+      << " Gauss points per face, penalty per pass " << penalty_per_pass()
+      << " Pa/m";
+    return s.str();
+  }
+
+  template <int dim>
+  unsigned int
   PenaltyContact<dim>::n_slave_points() const
   {
     return surfaces[0]->slave_points.size() + surfaces[1]->slave_points.size();
@@ -331,18 +398,18 @@ namespace isoimpact
             const double         pressure = -eps * gap;
             const Tensor<1, dim> traction =
               pressure * point.weight * best_normal;
-            for (unsigned int k = 0; k < point.shape_values.size(); ++k)
-              for (unsigned int d = 0; d < dim; ++d)
-                (*f[pass])(segment.node_dofs[k][d]) +=
-                  point.shape_values[k] * traction[d];
+            distribute_point_force(segment,
+                                   point.shape_values,
+                                   traction,
+                                   *f[pass]);
             evaluate_segment_basis(master.segments[best_segment],
                                    best_eta,
                                    r,
                                    dr);
-            const auto &ms = master.segments[best_segment];
-            for (unsigned int k = 0; k < r.size(); ++k)
-              for (unsigned int d = 0; d < dim; ++d)
-                (*f[1 - pass])(ms.node_dofs[k][d]) -= r[k] * traction[d];
+            distribute_point_force(master.segments[best_segment],
+                                   r,
+                                   -traction,
+                                   *f[1 - pass]);
 
             result.energy += 0.5 * eps * gap * gap * point.weight;
             result.force_on_first_surface += sign * traction;
@@ -358,4 +425,17 @@ namespace isoimpact
   }
 
   template class PenaltyContact<2>;
+  template std::vector<SurfaceQuadraturePoint<2>>
+  surface_quadrature(const std::vector<BoundarySegment<2>> &,
+                     const unsigned int,
+                     std::vector<double> *);
+  template Point<2>
+  current_position(const BoundarySegment<2> &,
+                   const SurfaceQuadraturePoint<2> &,
+                   const Vector<double> &);
+  template void
+  distribute_point_force(const BoundarySegment<2> &,
+                         const std::vector<double> &,
+                         const Tensor<1, 2> &,
+                         Vector<double> &);
 } // namespace isoimpact

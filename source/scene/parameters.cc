@@ -4,6 +4,7 @@
 #include <isoimpact/hertz_reference.h>
 #include <isoimpact/parameters.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -91,8 +92,9 @@ namespace isoimpact
   double
   Parameters::symmetry_factor() const
   {
-    for (const auto &body : bodies)
-      if (!(body.symmetry_cut &&
+    for (unsigned int b = 0; b < n_bodies(); ++b)
+      if (const auto &body = bodies[b];
+          !(body.symmetry_cut &&
             body.geometry.shape == BodyGeometry::Shape::half_disk))
         return 1.;
     return 2.;
@@ -169,6 +171,43 @@ namespace isoimpact
                       "4",
                       Patterns::Integer(1, 20),
                       "Gauss points of the contact integral on each face.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Obstacle");
+    prm.declare_entry("Type",
+                      "none",
+                      Patterns::Selection("none|plane|cylinder"),
+                      "A rigid, fixed, frictionless obstacle. none: the "
+                      "scene is Body 1 against Body 2 (two-pass contact). "
+                      "plane or cylinder: the scene is Body 1 against the "
+                      "obstacle (penalty contact of Body 1's arc, see "
+                      "Penalty below); Body 2 is then ignored entirely.");
+    prm.declare_entry("Point",
+                      "0, 0",
+                      Patterns::List(Patterns::Double(), 2, 2),
+                      "plane: a point of the plane, m.");
+    prm.declare_entry("Normal",
+                      "0, 1",
+                      Patterns::List(Patterns::Double(), 2, 2),
+                      "plane: normal pointing out of the obstacle, towards "
+                      "the body (non-zero; normalised by the program).");
+    prm.declare_entry("Center",
+                      "0, -4",
+                      Patterns::List(Patterns::Double(), 2, 2),
+                      "cylinder: centre, m; the body is outside the circle.");
+    prm.declare_entry("Radius",
+                      "4",
+                      Patterns::Double(),
+                      "cylinder: radius, m (> 0).");
+    prm.declare_entry("Penalty",
+                      "2e5",
+                      Patterns::Double(),
+                      "eps_obstacle, Pa/m (> 0): traction per unit "
+                      "penetration of the obstacle. A symmetric two-body "
+                      "impact with Contact/Penalty = eps_N and Penalty per "
+                      "pass = half is reproduced against its symmetry plane "
+                      "with 2 eps_N (each body penetrates half the total "
+                      "gap; see doc/formulation.md).");
     prm.leave_subsection();
 
     prm.enter_subsection("Time integration");
@@ -285,6 +324,19 @@ namespace isoimpact
     contact.n_quadrature_points = prm.get_integer("Quadrature points per face");
     prm.leave_subsection();
 
+    prm.enter_subsection("Obstacle");
+    obstacle.type      = prm.get("Type");
+    const auto p       = parse_doubles(prm.get("Point"));
+    obstacle.point     = Point<2>(p[0], p[1]);
+    const auto n       = parse_doubles(prm.get("Normal"));
+    obstacle.normal[0] = n[0];
+    obstacle.normal[1] = n[1];
+    const auto oc      = parse_doubles(prm.get("Center"));
+    obstacle.center    = Point<2>(oc[0], oc[1]);
+    obstacle.radius    = prm.get_double("Radius");
+    obstacle.penalty   = prm.get_double("Penalty");
+    prm.leave_subsection();
+
     prm.enter_subsection("Time integration");
     time_step = prm.get_double("Time step");
     end_time  = prm.get_double("End time");
@@ -340,7 +392,8 @@ namespace isoimpact
           throw InputError(message.str());
         }
     };
-    for (unsigned int b = 0; b < 2; ++b)
+    // With an obstacle Body 2 is ignored: not checked either.
+    for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
       {
         const auto       &body = parameters.bodies[b];
         const std::string s    = std::string(body_names[b]) + "/";
@@ -368,10 +421,11 @@ namespace isoimpact
                     body.geometry.upper_right[d],
                     "each coordinate must exceed the lower left corner's");
       }
-    require(parameters.contact.penalty > 0.,
-            "Contact/Penalty",
-            parameters.contact.penalty,
-            "it must be positive");
+    if (!parameters.obstacle.active()) // else not used
+      require(parameters.contact.penalty > 0.,
+              "Contact/Penalty",
+              parameters.contact.penalty,
+              "it must be positive");
     require(parameters.time_step > 0.,
             "Time integration/Time step",
             parameters.time_step,
@@ -384,8 +438,36 @@ namespace isoimpact
             "Time integration/Time step",
             parameters.time_step,
             "it must not exceed the end time");
+    const auto &obstacle = parameters.obstacle;
+    if (obstacle.type == "plane")
+      require(obstacle.normal.norm() > 0. &&
+                std::isfinite(obstacle.normal.norm()),
+              "Obstacle/Normal",
+              "(" + point_string(Point<2>(obstacle.normal)) + ")",
+              "the normal of the plane must be a non-zero vector");
+    if (obstacle.type == "cylinder")
+      require(obstacle.radius > 0.,
+              "Obstacle/Radius",
+              obstacle.radius,
+              "it must be positive");
+    if (obstacle.active())
+      require(obstacle.penalty > 0.,
+              "Obstacle/Penalty",
+              obstacle.penalty,
+              "it must be positive");
+    if (obstacle.type == "plane" && parameters.approach_law != "none")
+      require(parameters.bodies[0].initial_velocity *
+                  (obstacle.normal / obstacle.normal.norm()) <
+                0.,
+              "Body 1/Initial velocity",
+              "(" +
+                point_string(Point<2>(parameters.bodies[0].initial_velocity)) +
+                ")",
+              "the analytic Hertz reference against a rigid plane needs "
+              "Body 1 to move towards the plane (velocity . Obstacle/Normal "
+              "< 0): change it or set Output/Analytic reference = none");
     if (parameters.approach_law != "none")
-      for (unsigned int b = 0; b < 2; ++b)
+      for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
         require(parameters.bodies[b].geometry.shape !=
                   BodyGeometry::Shape::rectangle,
                 std::string(body_names[b]) + "/Shape",

@@ -27,7 +27,7 @@ namespace isoimpact
     Scene scene;
     scene.symmetry_factor = parameters.symmetry_factor();
 
-    for (unsigned int b = 0; b < 2; ++b)
+    for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
       {
         const auto                  &body = parameters.bodies[b];
         std::vector<RollerCondition> rollers;
@@ -46,17 +46,36 @@ namespace isoimpact
       }
 
     // Contact is searched only on the declared surfaces: the arcs.
-    scene.contacts.push_back(std::make_unique<PenaltyContact<2>>(
-      parameters.contact,
-      scene.bodies[0]->discretization().boundary_segments(
-        BodyGeometry::curved_boundary_id),
-      scene.bodies[1]->discretization().boundary_segments(
-        BodyGeometry::curved_boundary_id)));
-    scene.interactions.push_back({scene.contacts.back().get(), 0, 1});
+    const auto  &obstacle          = parameters.obstacle;
+    Tensor<1, 2> relative_velocity = -parameters.bodies[0].initial_velocity;
+    if (obstacle.active())
+      {
+        const RigidObstacle<2> rigid =
+          obstacle.type == "plane" ?
+            RigidObstacle<2>::plane(obstacle.point, obstacle.normal) :
+            RigidObstacle<2>::cylinder(obstacle.center, obstacle.radius);
+        ObstacleContactSettings settings;
+        settings.penalty             = obstacle.penalty;
+        settings.n_quadrature_points = parameters.contact.n_quadrature_points;
+        scene.contacts.push_back(std::make_unique<RigidObstacleContact<2>>(
+          settings,
+          rigid,
+          scene.bodies[0]->discretization().boundary_segments(
+            BodyGeometry::curved_boundary_id)));
+        scene.interactions.push_back({scene.contacts.back().get(), 0});
+      }
+    else
+      {
+        scene.contacts.push_back(std::make_unique<PenaltyContact<2>>(
+          parameters.contact,
+          scene.bodies[0]->discretization().boundary_segments(
+            BodyGeometry::curved_boundary_id),
+          scene.bodies[1]->discretization().boundary_segments(
+            BodyGeometry::curved_boundary_id)));
+        scene.interactions.push_back({scene.contacts.back().get(), 0, 1});
+        relative_velocity += parameters.bodies[1].initial_velocity;
+      }
 
-    const Tensor<1, 2> relative_velocity =
-      parameters.bodies[1].initial_velocity -
-      parameters.bodies[0].initial_velocity;
     if (relative_velocity.norm() > 0.)
       scene.impact_direction = relative_velocity / relative_velocity.norm();
     else
@@ -65,7 +84,7 @@ namespace isoimpact
     if (parameters.approach_law != "none")
       {
         std::array<ElasticCylinder, 2> cylinders;
-        for (unsigned int b = 0; b < 2; ++b)
+        for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
           {
             const auto &body = parameters.bodies[b];
             cylinders[b]     = {body.geometry.radius,
@@ -73,10 +92,29 @@ namespace isoimpact
                                 body.material.poisson_ratio,
                                 body.material.density};
           }
+        double closing_speed = relative_velocity.norm();
+        if (obstacle.type == "plane")
+          {
+            // The mirror image of body 1 in the plane, approaching at twice
+            // the normal speed: the plane is the symmetry line of that
+            // impact, which has the same force history.
+            cylinders[1]  = cylinders[0];
+            closing_speed = -2. * (parameters.bodies[0].initial_velocity *
+                                   obstacle.normal / obstacle.normal.norm());
+          }
+        else if (obstacle.type == "cylinder")
+          {
+            // A rigid cylinder as the limit of a stiff and heavy one.
+            const double rigid = 1e12;
+            cylinders[1]       = {obstacle.radius,
+                                  rigid * cylinders[0].youngs_modulus,
+                                  cylinders[0].poisson_ratio,
+                                  rigid * cylinders[0].density};
+          }
         scene.reference =
           std::make_unique<HertzImpactReference>(cylinders[0],
                                                  cylinders[1],
-                                                 relative_velocity.norm(),
+                                                 closing_speed,
                                                  approach_law_from_string(
                                                    parameters.approach_law));
       }

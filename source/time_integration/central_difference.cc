@@ -18,6 +18,13 @@ namespace isoimpact
     AssertThrow(time_step > 0.,
                 ExcMessage("time step " + std::to_string(time_step) +
                            " s is not allowed: it must be positive"));
+    for (const auto &interaction : contacts)
+      AssertThrow(interaction.contact != nullptr &&
+                    interaction.first_body < bodies.size() &&
+                    (interaction.contact->n_bodies() == 1 ||
+                     interaction.second_body < bodies.size()),
+                  ExcMessage("a contact interaction refers to a body that "
+                             "the time integrator does not have"));
     for (const auto *body : bodies)
       {
         half_step_velocity.emplace_back(body->n_dofs());
@@ -34,13 +41,16 @@ namespace isoimpact
       f = 0.;
     for (unsigned int c = 0; c < contacts.size(); ++c)
       {
-        const auto &interaction = contacts[c];
-        results[c]              = interaction.contact->add_forces(
-          bodies[interaction.first_body]->displacement,
-          bodies[interaction.second_body]->displacement,
-          forces[interaction.first_body],
-          forces[interaction.second_body],
-          record_contact_points);
+        const auto                         &interaction = contacts[c];
+        std::vector<const Vector<double> *> u           = {
+                    &bodies[interaction.first_body]->displacement};
+        std::vector<Vector<double> *> f = {&forces[interaction.first_body]};
+        if (interaction.contact->n_bodies() == 2)
+          {
+            u.push_back(&bodies[interaction.second_body]->displacement);
+            f.push_back(&forces[interaction.second_body]);
+          }
+        results[c] = interaction.contact->evaluate(u, f, record_contact_points);
       }
     for (unsigned int b = 0; b < bodies.size(); ++b)
       bodies[b]->compute_acceleration(bodies[b]->displacement,

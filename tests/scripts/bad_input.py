@@ -24,6 +24,19 @@ cases = {
     "unknown_scheme": (base.replace("set Scheme = HRZ", "set Scheme = diagonal"),
                        ["Scheme", "diagonal"]),
 }
+# The rigid obstacle (subsection Obstacle): a zero normal, a non-positive
+# radius or penalty.
+obstacle = "\nsubsection Obstacle\n  set Type = %s\n  set %s = %s\nend\n"
+cases.update({
+    "obstacle_zero_normal": (base + obstacle % ("plane", "Normal", "0, 0"),
+                             ["Obstacle/Normal", "(0, 0)", "non-zero"]),
+    "obstacle_zero_radius": (base + obstacle % ("cylinder", "Radius", "0"),
+                             ["Obstacle/Radius", "value 0", "positive"]),
+    "obstacle_negative_penalty": (base + obstacle % ("plane", "Penalty", "-2e5"),
+                                  ["Obstacle/Penalty", "-200000", "positive"]),
+    "obstacle_unknown_type": (base + obstacle % ("sphere", "Penalty", "2e5"),
+                              ["Type", "sphere"]),
+})
 for name, (text, words) in cases.items():
     prm = os.path.join(workdir, name + ".prm")
     with open(prm, "w") as f:
@@ -49,7 +62,7 @@ check_true("--print-parameters exits with 0", run.returncode == 0)
 defaults = os.path.join(workdir, "defaults.prm")
 with open(defaults, "w") as f:
     f.write(run.stdout)
-for key in ["Body 1", "Body 2", "Mass matrix", "Contact", "Time integration", "Output",
+for key in ["Body 1", "Body 2", "Mass matrix", "Contact", "Obstacle", "Time integration", "Output",
             "Young's modulus", "Penalty per pass"]:
     check_true(f"--print-parameters documents '{key}'", key in run.stdout)
 run = subprocess.run([program, "--help"], capture_output=True, text=True)

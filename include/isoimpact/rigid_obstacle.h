@@ -1,0 +1,134 @@
+// Layer 4: a rigid, fixed, frictionless analytic obstacle and the penalty
+// contact of one deformable body's contact boundary against it.
+//
+// Obstacles (2D):
+//   plane:    a point p and a unit normal n pointing out of the obstacle
+//             (into the half plane where the body lives);
+//             g(x) = (x - p) . n, normal n;
+//   cylinder: centre c and radius R, the body lives outside the circle;
+//             g(x) = |x - c| - R, normal (x - c) / |x - c|.
+// g is the signed distance to the obstacle surface (negative inside).
+//
+// Contact: the Gauss points of the body's contact boundary (the same
+// surface_quadrature() as the two-body contact, reference arc-length
+// weights); where g < 0 the traction on the body is t = -eps g n (pressure
+// eps |g|, pushing the body out along the obstacle's normal). The forces
+// derive from the potential  Pi = int eps/2 g^2 ds_ref  (over g < 0), so
+// central differences conserve energy as with the two-body contact.
+//
+// Penalty equivalence (doc/formulation.md): a symmetric two-body impact with
+// the two-pass contact ('half': eps_N/2 per pass) has the pressure
+// ~ eps_N |g_total|; against its rigid symmetry plane each body penetrates
+// g_total / 2, so the same pressure needs eps_obstacle = 2 eps_N.
+#ifndef isoimpact_rigid_obstacle_h
+#define isoimpact_rigid_obstacle_h
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <isoimpact/contact.h>
+#include <isoimpact/discretization.h>
+
+#include <string>
+#include <vector>
+
+namespace isoimpact
+{
+  template <int dim>
+  class RigidObstacle
+  {
+  public:
+    enum class Type
+    {
+      plane,
+      cylinder
+    };
+
+    // A plane through `point` with the normal `normal` (normalised here;
+    // it must not be zero).
+    static RigidObstacle
+    plane(const Point<dim> &point, const Tensor<1, dim> &normal);
+
+    // A cylinder (circle in 2D) of the given centre and radius (> 0); the
+    // body is outside.
+    static RigidObstacle
+    cylinder(const Point<dim> &center, const double radius);
+
+    Type
+    type() const;
+
+    // Signed distance g of x to the obstacle surface (negative inside the
+    // obstacle) and the unit normal of the obstacle at the closest point
+    // (pointing out of the obstacle). At the centre of a cylinder, where the
+    // normal is undefined, the normal is +e_y.
+    double
+    gap(const Point<dim> &x, Tensor<1, dim> &normal) const;
+
+    std::string
+    description() const;
+
+  private:
+    RigidObstacle()     = default;
+    Type           kind = Type::plane;
+    Point<dim>     origin; // plane point or cylinder centre
+    Tensor<1, dim> unit_normal;
+    double         radius = 0.;
+  };
+
+  struct ObstacleContactSettings
+  {
+    double       penalty             = 2e5; // eps_obstacle, Pa/m
+    unsigned int n_quadrature_points = 4;   // Gauss points per segment
+  };
+
+  /**
+   * Penalty contact of one body's contact boundary against a rigid obstacle.
+   * A ContactModel with n_bodies() = 1: the resultant reported
+   * (force_on_first_surface) is the force of the obstacle on the body; the
+   * pressure eps |g|, the energy int eps/2 g^2 ds_ref; recorded points have
+   * slave_surface 0.
+   */
+  template <int dim>
+  class RigidObstacleContact : public ContactModel<dim>
+  {
+  public:
+    RigidObstacleContact(const ObstacleContactSettings    &settings,
+                         const RigidObstacle<dim>         &obstacle,
+                         std::vector<BoundarySegment<dim>> surface);
+
+    // Adds the contact forces for the displacement u (the body's unknowns)
+    // to f.
+    ContactResult<dim>
+    add_forces(const Vector<double> &u,
+               Vector<double>       &f,
+               const bool            record_points = false) const;
+
+    unsigned int
+    n_bodies() const override;
+
+    ContactResult<dim>
+    evaluate(const std::vector<const Vector<double> *> &displacements,
+             const std::vector<Vector<double> *>       &forces,
+             const bool record_points) const override;
+
+    std::string
+    description() const override;
+
+    const RigidObstacle<dim> &
+    obstacle() const;
+
+    double
+    penalty() const;
+
+    unsigned int
+    n_points() const;
+
+  private:
+    ObstacleContactSettings                  settings;
+    RigidObstacle<dim>                       rigid_obstacle;
+    std::vector<BoundarySegment<dim>>        segments;
+    std::vector<SurfaceQuadraturePoint<dim>> points;
+  };
+} // namespace isoimpact
+
+#endif

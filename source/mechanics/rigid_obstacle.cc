@@ -1,0 +1,187 @@
+// Layer 4: rigid analytic obstacles and the penalty contact against them
+// (see rigid_obstacle.h).
+#include <deal.II/base/exceptions.h>
+
+#include <isoimpact/rigid_obstacle.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace isoimpact
+{
+  template <int dim>
+  RigidObstacle<dim>
+  RigidObstacle<dim>::plane(const Point<dim>     &point,
+                            const Tensor<1, dim> &normal)
+  {
+    const double length = normal.norm();
+    AssertThrow(length > 0. && std::isfinite(length),
+                ExcMessage("rigid plane: the normal must be a non-zero, "
+                           "finite vector"));
+    RigidObstacle obstacle;
+    obstacle.kind        = Type::plane;
+    obstacle.origin      = point;
+    obstacle.unit_normal = normal / length;
+    return obstacle;
+  }
+
+  template <int dim>
+  RigidObstacle<dim>
+  RigidObstacle<dim>::cylinder(const Point<dim> &center, const double radius)
+  {
+    AssertThrow(radius > 0. && std::isfinite(radius),
+                ExcMessage("rigid cylinder: the radius " +
+                           std::to_string(radius) + " must be positive"));
+    RigidObstacle obstacle;
+    obstacle.kind   = Type::cylinder;
+    obstacle.origin = center;
+    obstacle.radius = radius;
+    return obstacle;
+  }
+
+  template <int dim>
+  typename RigidObstacle<dim>::Type
+  RigidObstacle<dim>::type() const
+  {
+    return kind;
+  }
+
+  template <int dim>
+  double
+  RigidObstacle<dim>::gap(const Point<dim> &x, Tensor<1, dim> &normal) const
+  {
+    if (kind == Type::plane)
+      {
+        normal = unit_normal;
+        return (x - origin) * unit_normal;
+      }
+    const Tensor<1, dim> d        = x - origin;
+    const double         distance = d.norm();
+    if (distance > 0.)
+      normal = d / distance;
+    else
+      {
+        normal          = Tensor<1, dim>();
+        normal[dim - 1] = 1.;
+      }
+    return distance - radius;
+  }
+
+  template <int dim>
+  std::string
+  RigidObstacle<dim>::description() const
+  {
+    std::ostringstream s;
+    if (kind == Type::plane)
+      s << "rigid plane through (" << origin << ") with normal (" << unit_normal
+        << ")";
+    else
+      s << "rigid cylinder, centre (" << origin << "), radius " << radius
+        << " m";
+    return s.str();
+  }
+
+
+
+  template <int dim>
+  RigidObstacleContact<dim>::RigidObstacleContact(
+    const ObstacleContactSettings    &settings,
+    const RigidObstacle<dim>         &obstacle,
+    std::vector<BoundarySegment<dim>> surface)
+    : settings(settings)
+    , rigid_obstacle(obstacle)
+    , segments(std::move(surface))
+  {
+    AssertThrow(settings.penalty > 0.,
+                ExcMessage("obstacle penalty " +
+                           std::to_string(settings.penalty) +
+                           " is not allowed: it must be positive"));
+    AssertThrow(!segments.empty(),
+                ExcMessage("obstacle contact: the contact surface has no "
+                           "faces; check the boundary id declared as contact "
+                           "surface"));
+    points = surface_quadrature(segments, settings.n_quadrature_points);
+  }
+
+  template <int dim>
+  ContactResult<dim>
+  RigidObstacleContact<dim>::add_forces(const Vector<double> &u,
+                                        Vector<double>       &f,
+                                        const bool record_points) const
+  {
+    ContactResult<dim> result;
+    const double       eps = settings.penalty;
+    for (const auto &point : points)
+      {
+        const auto      &segment = segments[point.segment];
+        const Point<dim> x       = current_position(segment, point, u);
+        Tensor<1, dim>   n;
+        const double     g = rigid_obstacle.gap(x, n);
+        if (!(g < 0.))
+          continue;
+        // Traction -eps g n on the body, i.e. -dPi/dx with Pi = eps/2 g^2.
+        const Tensor<1, dim> force = -eps * g * point.weight * n;
+        distribute_point_force(segment, point.shape_values, force, f);
+        result.energy += 0.5 * eps * g * g * point.weight;
+        result.force_on_first_surface += force;
+        result.max_pressure = std::max(result.max_pressure, -eps * g);
+        ++result.n_active_points;
+        if (record_points)
+          result.points.push_back({point.reference_position, -eps * g, g, 0});
+      }
+    return result;
+  }
+
+  template <int dim>
+  unsigned int
+  RigidObstacleContact<dim>::n_bodies() const
+  {
+    return 1;
+  }
+
+  template <int dim>
+  ContactResult<dim>
+  RigidObstacleContact<dim>::evaluate(
+    const std::vector<const Vector<double> *> &displacements,
+    const std::vector<Vector<double> *>       &forces,
+    const bool                                 record_points) const
+  {
+    AssertDimension(displacements.size(), 1);
+    AssertDimension(forces.size(), 1);
+    return add_forces(*displacements[0], *forces[0], record_points);
+  }
+
+  template <int dim>
+  std::string
+  RigidObstacleContact<dim>::description() const
+  {
+    std::ostringstream s;
+    s << rigid_obstacle.description() << ", penalty " << settings.penalty
+      << " Pa/m, " << settings.n_quadrature_points << " Gauss points per face";
+    return s.str();
+  }
+
+  template <int dim>
+  const RigidObstacle<dim> &
+  RigidObstacleContact<dim>::obstacle() const
+  {
+    return rigid_obstacle;
+  }
+
+  template <int dim>
+  double
+  RigidObstacleContact<dim>::penalty() const
+  {
+    return settings.penalty;
+  }
+
+  template <int dim>
+  unsigned int
+  RigidObstacleContact<dim>::n_points() const
+  {
+    return points.size();
+  }
+
+  template class RigidObstacle<2>;
+  template class RigidObstacleContact<2>;
+} // namespace isoimpact
