@@ -368,6 +368,22 @@ def write_tables(runs, study, window_s, jobs_note):
     text.append(markdown_table(
         ["configuration"] + [f"window {w * 1e3:g} ms [%] / [%]" for w in SENSITIVITY_WINDOWS],
         sens_rows))
+    text += ["", "## Where the oscillation is: spectrum of (raw - analytic) over the contact",
+             "", "Periodogram with a Hann window (oscillation.spectrum): the largest peak "
+             "above 20 Hz and the share of the power above 100 Hz (below it: the slow "
+             "model error and any oscillation slower than 100 Hz).", ""]
+    spectra = []
+    for run in runs:
+        h = run.history
+        cells = [run.label]
+        for column, analytic in (("contact_force", "analytic_contact_force"),
+                                 ("max_contact_pressure", "analytic_max_contact_pressure")):
+            sp = oscillation.spectrum(h["time"], h[column], h[analytic])
+            cells += [f"{sp['dominant_hz']:.0f}", f"{100 * sp['share_above']:.0f}"]
+        spectra.append(cells)
+    text.append(markdown_table(
+        ["configuration", "force: peak [Hz]", "force: power above 100 Hz [%]",
+         "pressure: peak [Hz]", "pressure: power above 100 Hz [%]"], spectra))
     text.append("")
     path = os.path.join(study, "results_table.md")
     open(path, "w").write("\n".join(text))

@@ -87,3 +87,18 @@ def oscillation_measures(time, signal, reference, reference_peak,
         "window_s": (2 * (width // 2) + 1) * dt,
         "interval_s": (float(t[0]), float(t[-1])) if len(t) else (np.nan, np.nan),
     }
+
+
+def spectrum(time, signal, reference, above_hz=20.0, share_above_hz=100.0):
+    """Where the deviation s - r over the contact interval has its power
+    (periodogram with a Hann window, mean removed): the frequency [Hz] of
+    the largest peak above above_hz, and the share of the power (without
+    the zero frequency) above share_above_hz."""
+    mask = contact_interval(signal, reference)
+    d = (np.asarray(signal, dtype=float) - np.asarray(reference, dtype=float))[mask]
+    d = d - d.mean()
+    power = np.abs(np.fft.rfft(d * np.hanning(len(d)))) ** 2
+    f = np.fft.rfftfreq(len(d), time_step(time))
+    above = f > above_hz
+    return {"dominant_hz": float(f[above][np.argmax(power[above])]),
+            "share_above": float(power[f > share_above_hz].sum() / power[1:].sum())}

@@ -10,6 +10,8 @@ synthetic signals with known answers, sampled as the benchmark's history
   deviation A/sqrt(2) within 1 %; chatter A/sqrt(2) times |1 - H(f)| within
   1 %, H the transfer function of the 21-sample centred moving average
   (H = 0 when the window holds a whole number of periods);
+- the spectrum of the deviation peaks at f (within the resolution 1/T) with
+  over 99 % of its power above 100 Hz;
 - a slow oscillation (5.3 Hz, the scale of the elastic waves, 4 periods in
   the contact) is not chatter: below 5 % of A/sqrt(2) and below the
   smooth-pulse bound, and RMS(moving average - reference) = A/sqrt(2)."""
@@ -61,6 +63,11 @@ for f in (4 / (samples * dt), 1 / (6 * dt), 1 / (8 * dt)):  # 381, 333, 250 Hz
     check_close(f"{f:.0f} Hz: total deviation = A/sqrt(2)", m["total"], expected_rms, 0.01)
     check_close(f"{f:.0f} Hz: chatter = |1 - H| A/sqrt(2), H = {transfer(f):.4f}",
                 m["chatter"], abs(1 - transfer(f)) * expected_rms, 0.01)
+    spectrum = oscillation.spectrum(time, noisy, pulse)
+    check_close(f"{f:.0f} Hz: dominant frequency of the deviation [Hz]",
+                spectrum["dominant_hz"], f, 1 / duration, relative=False)
+    check_true(f"{f:.0f} Hz: power share above 100 Hz {spectrum['share_above']:.4f} > 0.99",
+               spectrum["share_above"] > 0.99)
 
 # 4 periods in the contact duration (5.3 Hz): zero at both ends, no jump.
 slow = pulse + np.where(contact, amplitude * np.sin(2 * math.pi * 4 / duration * time), 0.0)
