@@ -354,7 +354,7 @@ def write_tables(runs, study, window_s, jobs_note):
         "The chatter measure for windows of "
         + ", ".join(f"{w * 1e3:g}" for w in SENSITIVITY_WINDOWS)
         + " ms (force [% P_max] / pressure [% p0]); the window actually spans "
-        "2 round(w / dt) / 2 + 1 steps.",
+        "2 floor(round(w / dt) / 2) + 1 samples.",
         "",
     ]
     sens_rows = []
