@@ -29,6 +29,22 @@ add_test(NAME bad_input
     $<TARGET_FILE:isoimpact_program>
     ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm ${_work}/bad_input)
 
+# The oscillation measure of the study (doc/oscillation.md) on synthetic
+# signals with known answers.
+add_test(NAME oscillation_measure
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/oscillation_measure.py)
+
+# The study driver on the coarse scenes: figures and results table.
+add_test(NAME hertz_study_figures
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/hertz_study_figures.py
+    $<TARGET_FILE:isoimpact_program> ${CMAKE_SOURCE_DIR}/scripts/hertz_study.py
+    ${_work}/hertz_study
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_consistent_coarse.prm
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_rowsum_coarse.prm)
+set_tests_properties(hertz_study_figures PROPERTIES TIMEOUT 600)
+
 # A user's program built against the exported package, as a user would.
 add_test(NAME example_builds_against_library
   COMMAND ${CMAKE_CTEST_COMMAND}
