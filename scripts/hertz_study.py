@@ -47,7 +47,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import oscillation  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-DEFAULT_PRMS = ["prm/hertz_fea_hrz.prm", "prm/hertz_fea_rowsum.prm",
+DEFAULT_PRMS = ["prm/hertz_fea_hrz.prm", "prm/hertz_fea_q8_hrz.prm", "prm/hertz_fea_rowsum.prm",
                 "prm/hertz_fea_consistent.prm", "prm/hertz_iga_hrz.prm",
                 "prm/hertz_iga_rowsum.prm", "prm/hertz_iga_consistent.prm"]
 # Windows [s] of the moving average for the sensitivity table.
@@ -133,8 +133,15 @@ class Run:
         method = prm_value(os.path.join(directory, "parameters.prm"), "Method") or \
             prm_value(prm, "Method")
         self.method = method.upper()
+        element = prm_value(os.path.join(directory, "parameters.prm"), "FEA element") or \
+            prm_value(prm, "FEA element")
+        if self.method == "FEA":
+            self.method = "FEA-Q8" if element == "serendipity" else "FEA-Q9"
         self.mass = self.summary["mass_matrix"]
         self.label = f"{self.method} {self.mass}"
+        level = re.search(r"_g(\d+)$", self.name)
+        if level:  # a refinement-study file
+            self.label += f" (level {level.group(1)})"
         self.analytic = self.summary["analytic"]
         self.dt = oscillation.time_step(self.history["time"])
 
@@ -156,7 +163,8 @@ class Run:
 
 # ---------------------------------------------------------------------------
 # Figures
-COLOURS = {"FEA HRZ": "tab:blue", "FEA row-sum": "tab:cyan", "FEA consistent": "tab:purple",
+COLOURS = {"FEA-Q9 HRZ": "tab:blue", "FEA-Q9 row-sum": "tab:cyan", "FEA-Q9 consistent": "tab:purple",
+           "FEA-Q8 HRZ": "tab:brown",
            "IGA HRZ": "tab:red", "IGA row-sum": "tab:orange", "IGA consistent": "tab:green"}
 
 
@@ -434,6 +442,8 @@ def main():
          [r for r in runs if r.mass == "HRZ"]),
         ("fig_iga_mass.png", "IGA: consistent, row-sum and HRZ mass",
          [r for r in runs if r.method == "IGA"]),
+        ("fig_fea_q8_vs_q9.png", "FEA with the study's Q8 element and with Q9, HRZ mass",
+         [r for r in runs if r.method.startswith("FEA") and r.mass == "HRZ"]),
     )
     for name, title, group in groups:
         if group:

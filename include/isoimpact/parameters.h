@@ -67,8 +67,9 @@ namespace isoimpact
     }
 
     // Discretization
-    std::string  method = "fea";
-    unsigned int degree = 2;
+    std::string  method      = "fea";
+    FEAElement   fea_element = FEAElement::lagrange;
+    unsigned int degree      = 2;
 
     MassScheme      mass_scheme = MassScheme::hrz;
     ContactSettings contact;

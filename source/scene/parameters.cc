@@ -117,13 +117,18 @@ namespace isoimpact
     prm.declare_entry("Method",
                       "fea",
                       Patterns::Selection("fea|iga"),
-                      "fea: FE_Q Lagrange elements with MappingQ on exact "
-                      "manifolds; iga: NURBS (exact circles). The coarse "
-                      "mesh of a half disk has 4 cells in FEA and 1 knot "
-                      "span in IGA (a single patch whose Jacobian vanishes "
-                      "at the arc's outermost point and at the centre, "
-                      "which lowers the stable time step under "
-                      "refinement).");
+                      "fea: Lagrange (FE_Q) or serendipity elements with "
+                      "MappingQ on exact manifolds; iga: NURBS (exact "
+                      "circles), one patch per coarse FEA cell (4 for a half "
+                      "disk), glued C0, so FEA and IGA share the coarse "
+                      "mesh and the number of elements at every level.");
+    prm.declare_entry("FEA element",
+                      "lagrange",
+                      Patterns::Selection("lagrange|serendipity"),
+                      "Method = fea only. lagrange: FE_Q(Degree) (Q9 for "
+                      "degree 2); serendipity: the 8-node quadratic element "
+                      "of the source study (Degree = 2; row-sum lumping is "
+                      "refused for it: negative corner masses).");
     prm.declare_entry("Degree",
                       "2",
                       Patterns::Integer(1, 6),
@@ -269,10 +274,11 @@ namespace isoimpact
     prm.leave_subsection();
 
     prm.enter_subsection("Discretization");
-    method                     = prm.get("Method");
-    degree                     = prm.get_integer("Degree");
-    const unsigned int global  = prm.get_integer("Global refinements");
-    const unsigned int local   = prm.get_integer("Local refinements");
+    method                    = prm.get("Method");
+    fea_element               = fea_element_from_string(prm.get("FEA element"));
+    degree                    = prm.get_integer("Degree");
+    const unsigned int global = prm.get_integer("Global refinements");
+    const unsigned int local  = prm.get_integer("Local refinements");
     const auto   center_values = parse_doubles(prm.get("Refinement center"));
     const double refine_radius = prm.get_double("Refinement radius");
     prm.leave_subsection();
@@ -392,6 +398,26 @@ namespace isoimpact
           throw InputError(message.str());
         }
     };
+    require(parameters.fea_element == FEAElement::lagrange ||
+              (parameters.method == "fea" && parameters.degree == 2),
+            "Discretization/FEA element",
+            to_string(parameters.fea_element),
+            "serendipity needs Method = fea and Degree = 2 (here " +
+              parameters.method + ", " + std::to_string(parameters.degree) +
+              ")");
+    require(parameters.fea_element == FEAElement::lagrange ||
+              parameters.mass_scheme != MassScheme::row_sum,
+            "Mass matrix/Scheme",
+            "row-sum",
+            "row-sum lumping of the serendipity element gives negative "
+            "corner masses (-1/12 of the element mass); use HRZ or "
+            "consistent");
+    require(parameters.method == "fea" ||
+              parameters.bodies[0].geometry.local_refinements == 0,
+            "Discretization/Local refinements",
+            parameters.bodies[0].geometry.local_refinements,
+            "Method = iga allows 0 only (graded knots are not carried "
+            "across patch interfaces); refine with Global refinements");
     // With an obstacle Body 2 is ignored: not checked either.
     for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
       {

@@ -40,7 +40,7 @@ rows = list(csv.DictReader(open(os.path.join(study, "results_table.csv"))))
 check_true(f"one table row per scene ({len(rows)} for {len(prms)})", len(rows) == len(prms))
 labels = sorted(r["configuration"] for r in rows)
 check_true(f"configurations {labels}",
-           labels == sorted(["FEA HRZ", "IGA consistent", "IGA HRZ", "IGA row-sum"]))
+           labels == sorted(["FEA-Q9 HRZ", "IGA consistent", "IGA HRZ", "IGA row-sum"]))
 numbers = [(r["configuration"], k, float(v)) for r in rows for k, v in r.items()
            if k != "configuration"]
 bad = [(c, k, v) for c, k, v in numbers if not math.isfinite(v)]
