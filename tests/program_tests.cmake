@@ -78,3 +78,18 @@ add_test(NAME rigid_obstacle_reduction
     ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_consistent_coarse.prm
     ${_work}/rigid_obstacle)
 set_tests_properties(rigid_obstacle_reduction PROPERTIES TIMEOUT 900)
+
+# Issue 4: IGA with HRZ mass at the benchmark level (1024 knot spans per
+# half cylinder, about 15 s) against the analytic reference.
+add_test(NAME hertz_iga_hrz_benchmark
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/hertz_benchmark.py
+    $<TARGET_FILE:isoimpact_program>
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_level4.prm ${_work})
+set_tests_properties(hertz_iga_hrz_benchmark PROPERTIES TIMEOUT 600)
+
+# Issue 4: FEA and IGA (HRZ) refined 2, 3 and 4 times converge together.
+add_test(NAME fea_iga_refinement
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/fea_iga_refinement.py
+    $<TARGET_FILE:isoimpact_program> ${CMAKE_SOURCE_DIR}
+    ${_work}/fea_iga_refinement)
+set_tests_properties(fea_iga_refinement PROPERTIES TIMEOUT 900)

@@ -37,6 +37,18 @@ cases.update({
     "obstacle_unknown_type": (base + obstacle % ("sphere", "Penalty", "2e5"),
                               ["Type", "sphere"]),
 })
+# The element and discretisation choices the patterns cannot refuse.
+q8 = base.replace("set Method             = fea",
+                  "set Method             = fea\n  set FEA element        = serendipity")
+cases.update({
+    "q8_row_sum": (q8.replace("set Scheme = HRZ", "set Scheme = row-sum"),
+                   ["Mass matrix/Scheme", "row-sum", "negative corner masses"]),
+    "q8_with_iga": (q8.replace("set Method             = fea", "set Method             = iga"),
+                    ["Discretization/FEA element", "serendipity", "Method = fea"]),
+    "iga_local_refinement": (base.replace("set Method             = fea", "set Method             = iga")
+                             .replace("set Local refinements  = 0", "set Local refinements  = 2"),
+                             ["Discretization/Local refinements", "value 2", "0 only"]),
+})
 for name, (text, words) in cases.items():
     prm = os.path.join(workdir, name + ".prm")
     with open(prm, "w") as f:
