@@ -30,9 +30,11 @@ namespace isoimpact
    * spans per direction. The patches share their interface control points
    * (nurbs::MultiPatch), so the space is C0 across interfaces and
    * C^(p-1) inside patches; every patch corner is a regular corner (det J >
-   * 0 everywhere), unlike a single patch covering a half disk. Graded
-   * (local) refinement is refused: knot insertion would have to be carried
-   * across patch interfaces.
+   * 0 everywhere), unlike a single patch covering a half disk. Then
+   * local_refinements passes halve every knot span that carries an element
+   * with a corner within refinement_radius of refinement_center, along the
+   * whole knot line through the patches (nurbs::refine_near_point), so the
+   * interfaces stay conforming.
    *
    * Mesh: one deal.II cell per knot span, vertices = images of the span
    * corners (shared across interfaces), cell->user_index() = global element

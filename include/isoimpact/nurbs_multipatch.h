@@ -123,6 +123,27 @@ namespace isoimpact
       std::vector<double>                    point_weights;
     };
 
+    // (patch, parametric direction)
+    using KnotLine = std::pair<unsigned int, unsigned int>;
+
+    /**
+     * Local h-refinement of patches that are to be glued, keeping their
+     * interfaces conforming. `links` ties pairs of (patch, direction) whose
+     * knot vectors must stay equal (they meet along an interface, both
+     * parametrised the same way); linked pairs form knot lines. In each of
+     * `levels` passes, every span that carries an element with a corner
+     * within `radius` of `center` is halved in all patches of its knot
+     * line, so the refined zone is a union of tensor-product strips (no
+     * hanging knots). Throws if linked knot vectors differ.
+     */
+    template <int dim>
+    void
+    refine_near_point(std::vector<NURBSPatch<dim>>                     &patches,
+                      const std::vector<std::pair<KnotLine, KnotLine>> &links,
+                      const dealii::Point<dim>                         &center,
+                      const double                                      radius,
+                      const unsigned int                                levels);
+
     // A one-patch MultiPatch of `patch`; throws if `patch` is null.
     template <int dim>
     std::shared_ptr<const MultiPatch<dim>>

@@ -44,12 +44,6 @@ namespace isoimpact
                                        const unsigned int  degree)
   {
     static_assert(dim == 2, "NURBS bodies are built for dim = 2");
-    AssertThrow(body.local_refinements == 0,
-                ExcMessage("IGA: Local refinements = " +
-                           std::to_string(body.local_refinements) +
-                           " is not available (graded knots would have to "
-                           "be carried across patch interfaces); allowed is "
-                           "0, refine with Global refinements"));
     AssertThrow(body.global_refinements < 16,
                 ExcMessage("IGA: Global refinements = " +
                            std::to_string(body.global_refinements) +
@@ -96,6 +90,31 @@ namespace isoimpact
         result.patches.push_back(patch);
         result.side_ids.push_back(ids);
       }
+
+    // Local refinement along knot lines: the direction along a shared face
+    // is linked in both cells (deal.II orients the face alike in both).
+    std::vector<std::pair<nurbs::KnotLine, nurbs::KnotLine>> links;
+    for (const auto &cell : coarse.active_cell_iterators())
+      for (unsigned int f = 0; f < 4; ++f)
+        if (!cell->at_boundary(f))
+          {
+            const unsigned int g = cell->neighbor_of_neighbor(f);
+            AssertThrow(cell->vertex(
+                          GeometryInfo<2>::face_to_cell_vertices(f, 0)) ==
+                          cell->neighbor(f)->vertex(
+                            GeometryInfo<2>::face_to_cell_vertices(g, 0)),
+                        ExcMessage("IGA: two coarse cells run along their "
+                                   "shared face in opposite directions; "
+                                   "their patches cannot be glued"));
+            links.push_back(
+              {{cell->active_cell_index(), 1 - f / 2},
+               {cell->neighbor(f)->active_cell_index(), 1 - g / 2}});
+          }
+    nurbs::refine_near_point(result.patches,
+                             links,
+                             body.refinement_center,
+                             body.refinement_radius,
+                             body.local_refinements);
     return result;
   }
 

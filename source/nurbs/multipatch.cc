@@ -189,11 +189,93 @@ namespace isoimpact
       return std::make_shared<const MultiPatch<dim>>(*patch);
     }
 
+    template <int dim>
+    void
+    refine_near_point(std::vector<NURBSPatch<dim>>                     &patches,
+                      const std::vector<std::pair<KnotLine, KnotLine>> &links,
+                      const dealii::Point<dim>                         &center,
+                      const double                                      radius,
+                      const unsigned int                                levels)
+    {
+      // Knot lines: union-find over the (patch, direction) pairs.
+      const unsigned int        n = patches.size() * dim;
+      std::vector<unsigned int> parent(n);
+      for (unsigned int i = 0; i < n; ++i)
+        parent[i] = i;
+      const auto find = [&](unsigned int i) {
+        while (parent[i] != i)
+          i = parent[i] = parent[parent[i]];
+        return i;
+      };
+      for (const auto &link : links)
+        parent[find(link.first.first * dim + link.first.second)] =
+          find(link.second.first * dim + link.second.second);
+
+      for (unsigned int level = 0; level < levels; ++level)
+        {
+          // Spans to halve, per knot line (its root), by span index.
+          std::vector<std::set<unsigned int>> marked(n);
+          for (unsigned int p = 0; p < patches.size(); ++p)
+            for (unsigned int e = 0; e < patches[p].n_elements(); ++e)
+              {
+                const auto box   = patches[p].element_parameter_box(e);
+                bool       close = false;
+                for (unsigned int c = 0; c < (1u << dim) && !close; ++c)
+                  {
+                    dealii::Point<dim> corner;
+                    for (unsigned int d = 0; d < dim; ++d)
+                      corner[d] =
+                        (c & (1u << d)) ? box.second[d] : box.first[d];
+                    close =
+                      patches[p].evaluate(corner).distance(center) < radius;
+                  }
+                if (close)
+                  {
+                    const auto index = patches[p].element_multi_index(e);
+                    for (unsigned int d = 0; d < dim; ++d)
+                      marked[find(p * dim + d)].insert(index[d]);
+                  }
+              }
+          // Knots to insert, computed before any patch changes.
+          std::vector<std::vector<double>> midpoints(n);
+          for (unsigned int p = 0; p < patches.size(); ++p)
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                const unsigned int root = find(p * dim + d);
+                const unsigned int q = root / dim, r = root % dim;
+                AssertThrow(patches[p].knot_vector(d).breakpoints() ==
+                              patches[q].knot_vector(r).breakpoints(),
+                            dealii::ExcMessage(
+                              "refine_near_point: linked knot vectors of "
+                              "patches " +
+                              std::to_string(p) + " and " + std::to_string(q) +
+                              " differ"));
+                for (const unsigned int span : marked[root])
+                  {
+                    const auto interval =
+                      patches[p].knot_vector(d).span_interval(span);
+                    midpoints[p * dim + d].push_back(
+                      0.5 * (interval.first + interval.second));
+                  }
+              }
+          for (unsigned int p = 0; p < patches.size(); ++p)
+            for (unsigned int d = 0; d < dim; ++d)
+              if (!midpoints[p * dim + d].empty())
+                patches[p].insert_knots(d, midpoints[p * dim + d]);
+        }
+    }
+
     template class MultiPatch<2>;
     template class MultiPatch<3>;
     template std::shared_ptr<const MultiPatch<2>>
     as_multipatch(const std::shared_ptr<const NURBSPatch<2>> &);
     template std::shared_ptr<const MultiPatch<3>>
     as_multipatch(const std::shared_ptr<const NURBSPatch<3>> &);
+    template void
+    refine_near_point(std::vector<NURBSPatch<2>> &,
+                      const std::vector<std::pair<KnotLine, KnotLine>> &,
+                      const dealii::Point<2> &,
+                      const double,
+                      const unsigned int);
   } // namespace nurbs
 } // namespace isoimpact

@@ -141,8 +141,11 @@ namespace isoimpact
     prm.declare_entry("Local refinements",
                       "0",
                       Patterns::Integer(0, 10),
-                      "Further refinements of the cells within the "
-                      "refinement radius of the refinement centre.");
+                      "Further refinements near the refinement centre: FEA "
+                      "refines the cells with a vertex within the refinement "
+                      "radius; IGA halves the knot spans that carry such "
+                      "elements, along whole knot lines (strips through "
+                      "the patches).");
     prm.declare_entry("Refinement center",
                       "0, 0",
                       Patterns::List(Patterns::Double(), 2, 2),
@@ -412,12 +415,6 @@ namespace isoimpact
             "row-sum lumping of the serendipity element gives negative "
             "corner masses (-1/12 of the element mass); use HRZ or "
             "consistent");
-    require(parameters.method == "fea" ||
-              parameters.bodies[0].geometry.local_refinements == 0,
-            "Discretization/Local refinements",
-            parameters.bodies[0].geometry.local_refinements,
-            "Method = iga allows 0 only (graded knots are not carried "
-            "across patch interfaces); refine with Global refinements");
     // With an obstacle Body 2 is ignored: not checked either.
     for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
       {

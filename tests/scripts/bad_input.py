@@ -45,9 +45,6 @@ cases.update({
                    ["Mass matrix/Scheme", "row-sum", "negative corner masses"]),
     "q8_with_iga": (q8.replace("set Method             = fea", "set Method             = iga"),
                     ["Discretization/FEA element", "serendipity", "Method = fea"]),
-    "iga_local_refinement": (base.replace("set Method             = fea", "set Method             = iga")
-                             .replace("set Local refinements  = 0", "set Local refinements  = 2"),
-                             ["Discretization/Local refinements", "value 2", "0 only"]),
 })
 for name, (text, words) in cases.items():
     prm = os.path.join(workdir, name + ".prm")
