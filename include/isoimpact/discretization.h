@@ -82,6 +82,16 @@ namespace isoimpact
     const std::vector<BoundarySegment<dim>> &continuation = {});
 
   /**
+   * Sets segment.normal_orientation so that the tangent at the middle of the
+   * segment (eta = 1/2), rotated by -90 degrees, points along
+   * `outward_normal` there.
+   */
+  template <int dim>
+  void
+  orient_segment(BoundarySegment<dim> &segment,
+                 const Tensor<1, dim> &outward_normal);
+
+  /**
    * Bernstein coefficients of nodal functions from their values at the
    * degree + 1 points eta_j = j / degree: row k of the result holds the
    * coefficients of the function whose values are row k of `values`.
@@ -192,6 +202,18 @@ namespace isoimpact
     to_dof_handler_vector(const Vector<double> &unknowns,
                           Vector<double>       &dof_handler_vector) const = 0;
   };
+
+  /**
+   * The last step of every Discretization::boundary_segments(): marks the
+   * free ends of the segments of `boundary_id`, taking the symmetry cut
+   * (BodyGeometry::symmetry_boundary_id) as the continuation of every other
+   * boundary (mark_free_segment_ends()).
+   */
+  template <int dim>
+  void
+  mark_free_segment_ends(const Discretization<dim>         &discretization,
+                         const types::boundary_id           boundary_id,
+                         std::vector<BoundarySegment<dim>> &segments);
 
   /**
    * The coarse mesh of a body, where FEA and IGA both start: half disk =

@@ -145,6 +145,36 @@ namespace isoimpact
       }
   }
 
+  template <int dim>
+  void
+  orient_segment(BoundarySegment<dim> &segment,
+                 const Tensor<1, dim> &outward_normal)
+  {
+    std::vector<double> r, dr;
+    evaluate_segment_basis(segment, 0.5, r, dr);
+    Tensor<1, dim> tangent;
+    for (unsigned int k = 0; k < r.size(); ++k)
+      tangent += dr[k] * segment.node_positions[k];
+    Tensor<1, dim> rotated;
+    rotated[0]                 = tangent[1];
+    rotated[1]                 = -tangent[0];
+    segment.normal_orientation = (rotated * outward_normal > 0) ? 1. : -1.;
+  }
+
+  template <int dim>
+  void
+  mark_free_segment_ends(const Discretization<dim>         &discretization,
+                         const types::boundary_id           boundary_id,
+                         std::vector<BoundarySegment<dim>> &segments)
+  {
+    // The contact surface goes on across the symmetry cut (mirror image).
+    mark_free_segment_ends(segments,
+                           boundary_id == BodyGeometry::symmetry_boundary_id ?
+                             std::vector<BoundarySegment<dim>>() :
+                             discretization.boundary_segments(
+                               BodyGeometry::symmetry_boundary_id));
+  }
+
   void
   make_coarse_mesh(const BodyGeometry &geometry, Triangulation<2> &mesh)
   {
@@ -220,6 +250,12 @@ namespace isoimpact
   template void
   mark_free_segment_ends(std::vector<BoundarySegment<2>> &,
                          const std::vector<BoundarySegment<2>> &);
+  template void
+  mark_free_segment_ends(const Discretization<2> &,
+                         const types::boundary_id,
+                         std::vector<BoundarySegment<2>> &);
+  template void
+  orient_segment(BoundarySegment<2> &, const Tensor<1, 2> &);
   template std::unique_ptr<Discretization<2>>
   create_discretization<2>(const std::string &,
                            const BodyGeometry &,

@@ -272,25 +272,10 @@ namespace isoimpact
 
             // Orientation: the tangent rotated by -90 degrees against the
             // outward normal deal.II computes, at the middle of the face.
-            std::vector<double> r, dr;
-            evaluate_segment_basis(segment, 0.5, r, dr);
-            Tensor<1, dim> tangent;
-            for (unsigned int k = 0; k < n_nodes; ++k)
-              tangent += dr[k] * segment.node_positions[k];
-            Tensor<1, dim> rotated;
-            rotated[0] = tangent[1];
-            rotated[1] = -tangent[0];
-            const Tensor<1, dim> normal =
-              fe_face_values.normal_vector(n_points / 2);
-            segment.normal_orientation = (rotated * normal > 0) ? 1. : -1.;
+            orient_segment(segment, fe_face_values.normal_vector(n_points / 2));
             segments.push_back(segment);
           }
-    // The contact surface goes on across the symmetry cut (mirror image).
-    mark_free_segment_ends(segments,
-                           boundary_id == BodyGeometry::symmetry_boundary_id ?
-                             std::vector<BoundarySegment<dim>>() :
-                             boundary_segments(
-                               BodyGeometry::symmetry_boundary_id));
+    mark_free_segment_ends(*this, boundary_id, segments);
     return segments;
   }
 

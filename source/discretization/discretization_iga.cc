@@ -441,26 +441,13 @@ namespace isoimpact
                   for (unsigned int j = 0; j < dim; ++j)
                     J[i][j] = jacobian[i][j];
                 Tensor<1, dim> unit_normal;
-                unit_normal[d]              = (s == 0) ? -1. : 1.;
-                const Tensor<1, dim> normal = cofactor(J) * unit_normal;
-                std::vector<double>  r, dr;
-                evaluate_segment_basis(segment, 0.5, r, dr);
-                Tensor<1, dim> tangent;
-                for (unsigned int k = 0; k <= degree; ++k)
-                  tangent += dr[k] * segment.node_positions[k];
-                Tensor<1, dim> rotated;
-                rotated[0]                 = tangent[1];
-                rotated[1]                 = -tangent[0];
-                segment.normal_orientation = (rotated * normal > 0) ? 1. : -1.;
+                unit_normal[d] = (s == 0) ? -1. : 1.;
+                orient_segment(segment,
+                               Tensor<1, dim>(cofactor(J) * unit_normal));
                 segments.push_back(segment);
               }
           }
-    // The contact surface goes on across the symmetry cut (mirror image).
-    mark_free_segment_ends(segments,
-                           boundary_id == BodyGeometry::symmetry_boundary_id ?
-                             std::vector<BoundarySegment<dim>>() :
-                             boundary_segments(
-                               BodyGeometry::symmetry_boundary_id));
+    mark_free_segment_ends(*this, boundary_id, segments);
     return segments;
   }
 
