@@ -93,3 +93,10 @@ add_test(NAME fea_iga_refinement
     $<TARGET_FILE:isoimpact_program> ${CMAKE_SOURCE_DIR}
     ${_work}/fea_iga_refinement)
 set_tests_properties(fea_iga_refinement PROPERTIES TIMEOUT 900)
+
+# The study's FEA element (Q8 serendipity) with HRZ mass on the test mesh.
+add_test(NAME hertz_fea_q8_hrz_benchmark
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/hertz_benchmark.py
+    $<TARGET_FILE:isoimpact_program>
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_q8_hrz_coarse.prm ${_work})
+set_tests_properties(hertz_fea_q8_hrz_benchmark PROPERTIES TIMEOUT 600)

@@ -1,5 +1,5 @@
-"""The dynamic Hertz impact on a coarse mesh (the .prm given: FE_Q(2) with
-HRZ, NURBS with consistent mass): runs the program and checks summary.json
+"""The dynamic Hertz impact on the mesh of the .prm given (FE_Q(2) or Q8 with
+HRZ, NURBS with consistent or HRZ mass): runs the program and checks summary.json
 against the analytic reference. The .prm's output directory is its name.
 
 Tolerances (issue: within 10 % of the analytic reference, energy error below
