@@ -94,32 +94,8 @@ namespace
     assemble_stiffness_matrix(disc, material, constraints, stiffness);
 
     // Load vector through the same interface as every assembly.
-    Vector<double> rhs(disc.n_dofs()),
-      cell_rhs(disc.get_fe().n_dofs_per_cell());
-    FEValues<2>                          fe_values(disc.get_mapping(),
-                          disc.get_fe(),
-                          disc.get_cell_quadrature(),
-                          update_values | update_quadrature_points |
-                            update_JxW_values);
-    std::vector<types::global_dof_index> indices;
-    for (const auto &cell : disc.get_dof_handler().active_cell_iterators())
-      {
-        fe_values.reinit(cell);
-        cell_rhs = 0.;
-        for (const unsigned int q : fe_values.quadrature_point_indices())
-          {
-            const Tensor<1, 2> b = body_force(fe_values.quadrature_point(q));
-            for (const unsigned int i : fe_values.dof_indices())
-              {
-                const unsigned int c =
-                  disc.get_fe().system_to_component_index(i).first;
-                cell_rhs(i) += b[c] * fe_values.shape_value_component(i, q, c) *
-                               fe_values.JxW(q);
-              }
-          }
-        disc.get_dof_indices(cell, indices);
-        constraints.distribute_local_to_global(cell_rhs, indices, rhs);
-      }
+    Vector<double> rhs;
+    assemble_load_vector<2>(disc, body_force, constraints, rhs);
 
     SparseDirectUMFPACK solver;
     solver.initialize(stiffness);

@@ -74,33 +74,15 @@ main()
   SparseMatrix<double> stiffness(sparsity);
   assemble_stiffness_matrix(disc, material, constraints, stiffness);
 
-  // The load vector, with FEValues on FE_NURBS as with any element.
-  Vector<double> rhs(disc.n_dofs());
-  Vector<double> cell_rhs(disc.get_fe().n_dofs_per_cell());
-  FEValues<2>    fe_values(disc.get_mapping(),
-                        disc.get_fe(),
-                        disc.get_cell_quadrature(),
-                        update_values | update_quadrature_points |
-                          update_JxW_values);
-  std::vector<types::global_dof_index> indices;
-  for (const auto &cell : disc.get_dof_handler().active_cell_iterators())
-    {
-      fe_values.reinit(cell);
-      cell_rhs = 0.;
-      for (const unsigned int q : fe_values.quadrature_point_indices())
-        {
-          const auto b = body_force(fe_values.quadrature_point(q), material);
-          for (const unsigned int i : fe_values.dof_indices())
-            {
-              const unsigned int c =
-                disc.get_fe().system_to_component_index(i).first;
-              cell_rhs(i) += b[c] * fe_values.shape_value_component(i, q, c) *
-                             fe_values.JxW(q);
-            }
-        }
-      disc.get_dof_indices(cell, indices);
-      constraints.distribute_local_to_global(cell_rhs, indices, rhs);
-    }
+  // The load vector, assembled like every other vector of the library.
+  Vector<double> rhs;
+  assemble_load_vector<2>(
+    disc,
+    [&](const Point<2> &p) {
+      return body_force(p, material);
+    },
+    constraints,
+    rhs);
 
   SparseDirectUMFPACK solver;
   solver.initialize(stiffness);
@@ -111,6 +93,11 @@ main()
   // The L2 error, and the solution for ParaView.
   Vector<double> u_dofs(disc.get_dof_handler().n_dofs());
   disc.to_dof_handler_vector(u, u_dofs);
+  FEValues<2>                 fe_values(disc.get_mapping(),
+                        disc.get_fe(),
+                        disc.get_cell_quadrature(),
+                        update_values | update_quadrature_points |
+                          update_JxW_values);
   std::vector<Vector<double>> values(fe_values.n_quadrature_points,
                                      Vector<double>(2));
   double                      error = 0.;

@@ -9,6 +9,7 @@
 #include <isoimpact/discretization.h>
 #include <isoimpact/material.h>
 
+#include <functional>
 #include <string>
 
 namespace isoimpact
@@ -58,6 +59,16 @@ namespace isoimpact
                        const double                     density,
                        const MassScheme                 scheme,
                        const AffineConstraints<double> &constraints);
+
+  // Load vector of a body force b(x) [N/m^3] (per unit thickness in 2D),
+  // condensed with `constraints`; `rhs` is resized to n_dofs.
+  template <int dim>
+  void
+  assemble_load_vector(
+    const Discretization<dim>                               &discretization,
+    const std::function<Tensor<1, dim>(const Point<dim> &)> &body_force,
+    const AffineConstraints<double>                         &constraints,
+    Vector<double>                                          &rhs);
 
   // Integral of the density over the mesh (exact geometry of the mapping).
   template <int dim>

@@ -267,6 +267,43 @@ namespace isoimpact
     return mass;
   }
 
+  template <int dim>
+  void
+  assemble_load_vector(
+    const Discretization<dim>                               &discretization,
+    const std::function<Tensor<1, dim>(const Point<dim> &)> &body_force,
+    const AffineConstraints<double>                         &constraints,
+    Vector<double>                                          &rhs)
+  {
+    const auto                          &fe = discretization.get_fe();
+    FEValues<dim>                        fe_values(discretization.get_mapping(),
+                            fe,
+                            discretization.get_cell_quadrature(),
+                            update_values | update_quadrature_points |
+                              update_JxW_values);
+    Vector<double>                       cell_rhs(fe.n_dofs_per_cell());
+    std::vector<types::global_dof_index> indices;
+    rhs.reinit(discretization.n_dofs());
+    for (const auto &cell :
+         discretization.get_dof_handler().active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        cell_rhs = 0.;
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            const Tensor<1, dim> b = body_force(fe_values.quadrature_point(q));
+            for (const unsigned int i : fe_values.dof_indices())
+              {
+                const unsigned int c = fe.system_to_component_index(i).first;
+                cell_rhs(i) += b[c] * fe_values.shape_value_component(i, q, c) *
+                               fe_values.JxW(q);
+              }
+          }
+        discretization.get_dof_indices(cell, indices);
+        constraints.distribute_local_to_global(cell_rhs, indices, rhs);
+      }
+  }
+
   template void
   make_sparsity_pattern(const Discretization<2> &,
                         const AffineConstraints<double> &,
@@ -286,6 +323,11 @@ namespace isoimpact
                        const double,
                        const MassScheme,
                        const AffineConstraints<double> &);
+  template void
+  assemble_load_vector(const Discretization<2> &,
+                       const std::function<Tensor<1, 2>(const Point<2> &)> &,
+                       const AffineConstraints<double> &,
+                       Vector<double> &);
   template double
   integrate_mass(const Discretization<2> &, const double);
 } // namespace isoimpact
