@@ -18,13 +18,13 @@ namespace isoimpact
   {
     /**
      * A set of patches of equal degrees. Control points on patch sides that
-     * coincide (within `tolerance` times the largest extent of the control
-     * nets) and carry the same weight become one global control point, so
-     * the basis is continuous across interfaces where the sides are
-     * parametrised alike (same knots, same side control points). Elements
-     * are numbered patch by patch; element_control_points() gives global
-     * indices, element_rational_basis() the patch's functions in the same
-     * local order. A side that shares some but not all of its control
+     * coincide (within `tolerance` times the diagonal of the bounding box
+     * of all control points) and carry the same weight become one global
+     * control point, so the basis is continuous across interfaces where the
+     * sides are parametrised alike (same knots, same side control points).
+     * Elements are numbered patch by patch; element_control_points() gives
+     * global indices, element_rational_basis() the patch's functions in the
+     * same local order. A side that shares some but not all of its control
      * points with other patches is a non-conforming interface and is
      * refused with an exception.
      */

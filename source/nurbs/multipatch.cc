@@ -32,17 +32,21 @@ namespace isoimpact
                         std::to_string(patches[0].degree(d)) +
                         "; all patches must have the same degrees"));
 
+      // The diagonal of the bounding box of all control points.
       element_offsets.push_back(0);
-      double extent = 0.;
+      dealii::Point<dim> lower = patches[0].control_points()[0], upper = lower;
       for (const auto &patch : patches)
         {
           element_offsets.push_back(element_offsets.back() +
                                     patch.n_elements());
           for (const auto &x : patch.control_points())
-            for (const auto &y : patch.control_points())
-              extent = std::max(extent, x.distance(y));
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                lower[d] = std::min(lower[d], x[d]);
+                upper[d] = std::max(upper[d], x[d]);
+              }
         }
-      const double distance_tolerance = tolerance * extent;
+      const double distance_tolerance = tolerance * lower.distance(upper);
 
       // Side control points of earlier patches are the only candidates for
       // a match (quadratic search over boundary points, once in set-up).
