@@ -46,6 +46,11 @@ namespace isoimpact
                       const std::vector<ContactInteraction<dim>> &contacts,
                       const double                                time_step);
 
+    // Holds pointers into its own force vectors: not copyable.
+    CentralDifference(const CentralDifference &) = delete;
+    CentralDifference &
+    operator=(const CentralDifference &) = delete;
+
     // Computes a^0 and v^{1/2} from the bodies' initial state.
     void
     initialize(const bool record_contact_points = false);
@@ -80,7 +85,11 @@ namespace isoimpact
     unsigned int                         step         = 0;
     std::vector<Vector<double>>          half_step_velocity;
     std::vector<Vector<double>>          forces;
-    std::vector<ContactResult<dim>>      results;
+    // Per contact interaction, built once: its bodies' displacements and
+    // force vectors, in the order the contact model expects.
+    std::vector<std::vector<const Vector<double> *>> contact_displacements;
+    std::vector<std::vector<Vector<double> *>>       contact_forces;
+    std::vector<ContactResult<dim>>                  results;
   };
 } // namespace isoimpact
 

@@ -30,6 +30,19 @@ namespace isoimpact
         half_step_velocity.emplace_back(body->n_dofs());
         forces.emplace_back(body->n_dofs());
       }
+    for (const auto &interaction : contacts)
+      {
+        std::vector<unsigned int> involved = {interaction.first_body};
+        if (interaction.contact->n_bodies() == 2)
+          involved.push_back(interaction.second_body);
+        contact_displacements.emplace_back();
+        contact_forces.emplace_back();
+        for (const unsigned int b : involved)
+          {
+            contact_displacements.back().push_back(&bodies[b]->displacement);
+            contact_forces.back().push_back(&forces[b]);
+          }
+      }
   }
 
   template <int dim>
@@ -40,18 +53,9 @@ namespace isoimpact
     for (auto &f : forces)
       f = 0.;
     for (unsigned int c = 0; c < contacts.size(); ++c)
-      {
-        const auto                         &interaction = contacts[c];
-        std::vector<const Vector<double> *> u           = {
-                    &bodies[interaction.first_body]->displacement};
-        std::vector<Vector<double> *> f = {&forces[interaction.first_body]};
-        if (interaction.contact->n_bodies() == 2)
-          {
-            u.push_back(&bodies[interaction.second_body]->displacement);
-            f.push_back(&forces[interaction.second_body]);
-          }
-        results[c] = interaction.contact->evaluate(u, f, record_contact_points);
-      }
+      results[c] = contacts[c].contact->evaluate(contact_displacements[c],
+                                                 contact_forces[c],
+                                                 record_contact_points);
     for (unsigned int b = 0; b < bodies.size(); ++b)
       bodies[b]->compute_acceleration(bodies[b]->displacement,
                                       forces[b],
