@@ -3,9 +3,11 @@
 // a shared machine). Usage: benchmark_step_cost FILE.prm [n_steps]
 #include <deal.II/base/timer.h>
 
-#include <isoimpact/scene.h>
+#include <isoimpact/scene/scene.h>
 
 #include <iostream>
+
+using namespace dealii;
 
 int
 main(int argc, char **argv)

@@ -46,9 +46,9 @@
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>
 
-#include <isoimpact/output.h>
-#include <isoimpact/parameters.h>
-#include <isoimpact/scene.h>
+#include <isoimpact/scene/output.h>
+#include <isoimpact/scene/parameters.h>
+#include <isoimpact/scene/scene.h>
 
 #include <algorithm>
 #include <cmath>
@@ -57,6 +57,8 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+
+using namespace dealii;
 
 namespace isoimpact
 {

@@ -18,12 +18,14 @@
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_q.h>
 
-#include <isoimpact/discretization_iga.h>
-#include <isoimpact/nurbs_geometries.h>
+#include <isoimpact/discretization/discretization_iga.h>
+#include <isoimpact/nurbs/geometries.h>
 
 #include <cmath>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

@@ -19,15 +19,17 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
-#include <isoimpact/contact.h>
-#include <isoimpact/discretization_iga.h>
-#include <isoimpact/elastic_body.h>
+#include <isoimpact/discretization/discretization_iga.h>
+#include <isoimpact/mechanics/contact.h>
+#include <isoimpact/mechanics/elastic_body.h>
 
 #include <cmath>
 #include <memory>
 #include <sstream>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

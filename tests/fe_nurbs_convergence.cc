@@ -9,13 +9,15 @@
 
 #include <deal.II/lac/sparse_direct.h>
 
-#include <isoimpact/assembly.h>
-#include <isoimpact/discretization_iga.h>
-#include <isoimpact/nurbs_geometries.h>
+#include <isoimpact/discretization/discretization_iga.h>
+#include <isoimpact/mechanics/assembly.h>
+#include <isoimpact/nurbs/geometries.h>
 
 #include <cmath>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

@@ -27,15 +27,17 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 
-#include <isoimpact/discretization_iga.h>
-#include <isoimpact/fe_nurbs.h>
-#include <isoimpact/mapping_nurbs.h>
-#include <isoimpact/nurbs_geometries.h>
+#include <isoimpact/discretization/discretization_iga.h>
+#include <isoimpact/fe/fe_nurbs.h>
+#include <isoimpact/fe/mapping_nurbs.h>
+#include <isoimpact/nurbs/geometries.h>
 
 #include <cmath>
 #include <memory>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

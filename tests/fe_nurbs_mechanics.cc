@@ -25,9 +25,9 @@
 
 #include <deal.II/fe/fe_values.h>
 
-#include <isoimpact/assembly.h>
-#include <isoimpact/discretization_iga.h>
-#include <isoimpact/elastic_body.h>
+#include <isoimpact/discretization/discretization_iga.h>
+#include <isoimpact/mechanics/assembly.h>
+#include <isoimpact/mechanics/elastic_body.h>
 
 #include <cmath>
 #include <functional>
@@ -36,6 +36,8 @@
 #include <string>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

@@ -62,16 +62,18 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 
-#include <isoimpact/assembly.h>
-#include <isoimpact/discretization_fea.h>
-#include <isoimpact/elastic_body.h>
-#include <isoimpact/fe_serendipity.h>
+#include <isoimpact/discretization/discretization_fea.h>
+#include <isoimpact/fe/fe_serendipity.h>
+#include <isoimpact/mechanics/assembly.h>
+#include <isoimpact/mechanics/elastic_body.h>
 
 #include <cmath>
 #include <sstream>
 #include <string>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

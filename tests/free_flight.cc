@@ -45,11 +45,11 @@
 //    scheme). Measured 3.99 for all three mass matrices.
 #include <deal.II/base/numbers.h>
 
-#include <isoimpact/assembly.h>
-#include <isoimpact/central_difference.h>
-#include <isoimpact/contact.h>
-#include <isoimpact/discretization_fea.h>
-#include <isoimpact/elastic_body.h>
+#include <isoimpact/discretization/discretization_fea.h>
+#include <isoimpact/mechanics/assembly.h>
+#include <isoimpact/mechanics/contact.h>
+#include <isoimpact/mechanics/elastic_body.h>
+#include <isoimpact/time_integration/central_difference.h>
 
 #include <cmath>
 #include <memory>
@@ -57,6 +57,8 @@
 #include <vector>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

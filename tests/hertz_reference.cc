@@ -4,7 +4,7 @@
 // m* delta'' = -P(delta), symmetry, round trips, pressure integral, bad input.
 #include <deal.II/base/quadrature_lib.h>
 
-#include <isoimpact/hertz_reference.h>
+#include <isoimpact/scene/hertz_reference.h>
 
 #include <cctype>
 #include <cmath>
@@ -13,6 +13,8 @@
 #include <string>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

@@ -15,13 +15,15 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 
-#include <isoimpact/assembly.h>
-#include <isoimpact/discretization_fea.h>
+#include <isoimpact/discretization/discretization_fea.h>
+#include <isoimpact/mechanics/assembly.h>
 
 #include <cmath>
 #include <string>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

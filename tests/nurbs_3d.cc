@@ -2,11 +2,13 @@
 // NURBSPatch<2,3> (half disk in a tilted plane: area).
 #include <deal.II/base/quadrature_lib.h>
 
-#include <isoimpact/nurbs_geometries.h>
+#include <isoimpact/nurbs/geometries.h>
 
 #include <random>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact::nurbs;
 using dealii::Point;

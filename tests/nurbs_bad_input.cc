@@ -1,6 +1,6 @@
 // Every validation rule of the NURBS layer throws a message that names the
 // offending value; patch files round-trip and their errors name file and line.
-#include <isoimpact/nurbs_geometries.h>
+#include <isoimpact/nurbs/geometries.h>
 
 #include <cstdio>
 #include <fstream>
@@ -9,6 +9,8 @@
 #include <sstream>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact::nurbs;
 using dealii::Point;

@@ -1,11 +1,13 @@
 // B-spline basis of KnotVector: partition of unity, non-negativity,
 // derivatives against finite differences, hand-computed values.
-#include <isoimpact/nurbs_knot_vector.h>
+#include <isoimpact/nurbs/knot_vector.h>
 
 #include <algorithm>
 #include <random>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using isoimpact::nurbs::KnotVector;
 

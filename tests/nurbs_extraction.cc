@@ -1,10 +1,12 @@
 // Bezier extraction: C^e B reproduces the B-spline basis on each span, in 1D
 // and for the tensor-product operators of a patch.
-#include <isoimpact/nurbs_geometries.h>
+#include <isoimpact/nurbs/geometries.h>
 
 #include <random>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact::nurbs;
 

@@ -3,11 +3,13 @@
 // consistency with NURBSPatch::jacobian).
 #include <deal.II/base/quadrature_lib.h>
 
-#include <isoimpact/nurbs_geometries.h>
+#include <isoimpact/nurbs/geometries.h>
 
 #include <random>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact::nurbs;
 using dealii::Point;

@@ -1,11 +1,13 @@
 // Refinement leaves the geometry unchanged: knot insertion, uniform, graded,
 // degree elevation and k-refinement of the half disk; refinement matrices of
 // KnotVector reproduce the old basis.
-#include <isoimpact/nurbs_geometries.h>
+#include <isoimpact/nurbs/geometries.h>
 
 #include <random>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact::nurbs;
 using dealii::Point;

@@ -3,9 +3,11 @@
 // unit density): h/3, 2h/3, h, ..., h, 2h/3, h/3 (h = element length).
 #include <deal.II/base/quadrature_lib.h>
 
-#include <isoimpact/nurbs_patch.h>
+#include <isoimpact/nurbs/patch.h>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact::nurbs;
 using dealii::Point;

@@ -34,9 +34,9 @@
 
 #include <deal.II/fe/fe_values.h>
 
-#include <isoimpact/assembly.h>
-#include <isoimpact/discretization_fea.h>
-#include <isoimpact/elastic_body.h>
+#include <isoimpact/discretization/discretization_fea.h>
+#include <isoimpact/mechanics/assembly.h>
+#include <isoimpact/mechanics/elastic_body.h>
 
 #include <cmath>
 #include <memory>
@@ -44,6 +44,8 @@
 #include <string>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

@@ -25,13 +25,15 @@
 //    minus the gradient of the contact energy, checked by central
 //    differences of the energy in every unknown (h = 1e-6): 1e-6 relative to
 //    the largest nodal force.
-#include <isoimpact/rigid_obstacle.h>
+#include <isoimpact/mechanics/rigid_obstacle.h>
 
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

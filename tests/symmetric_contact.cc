@@ -48,8 +48,8 @@
 #include <deal.II/base/numbers.h>
 #include <deal.II/base/quadrature_lib.h>
 
-#include <isoimpact/contact.h>
-#include <isoimpact/discretization_fea.h>
+#include <isoimpact/discretization/discretization_fea.h>
+#include <isoimpact/mechanics/contact.h>
 
 #include <cmath>
 #include <limits>
@@ -57,6 +57,8 @@
 #include <vector>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

@@ -35,9 +35,9 @@
 //    hanging-node constraints, which must neither lose nor create mass.
 #include <deal.II/base/numbers.h>
 
-#include <isoimpact/assembly.h>
-#include <isoimpact/discretization_fea.h>
-#include <isoimpact/elastic_body.h>
+#include <isoimpact/discretization/discretization_fea.h>
+#include <isoimpact/mechanics/assembly.h>
+#include <isoimpact/mechanics/elastic_body.h>
 
 #include <cmath>
 #include <memory>
@@ -45,6 +45,8 @@
 #include <vector>
 
 #include "tests.h"
+
+using namespace dealii;
 
 using namespace isoimpact;
 

@@ -1,11 +1,13 @@
 // An example of a user's program on top of isoimpact: a standing elastic
 // wave in a square block (FE_Q(2), HRZ mass, central differences), with the
 // energy balance. Exits non-zero if the energy drifts by more than 1e-3.
-#include <isoimpact/central_difference.h>
-#include <isoimpact/discretization.h>
+#include <isoimpact/discretization/discretization.h>
+#include <isoimpact/time_integration/central_difference.h>
 
 #include <cmath>
 #include <iostream>
+
+using namespace dealii;
 
 int
 main()

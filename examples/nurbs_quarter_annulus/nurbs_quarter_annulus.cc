@@ -13,13 +13,15 @@
 
 #include <deal.II/numerics/data_out.h>
 
-#include <isoimpact/assembly.h>
-#include <isoimpact/discretization_iga.h>
-#include <isoimpact/nurbs_geometries.h>
+#include <isoimpact/discretization/discretization_iga.h>
+#include <isoimpact/mechanics/assembly.h>
+#include <isoimpact/nurbs/geometries.h>
 
 #include <cmath>
 #include <fstream>
 #include <iostream>
+
+using namespace dealii;
 
 using namespace isoimpact;
 

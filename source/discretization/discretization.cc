@@ -3,11 +3,13 @@
 
 #include <deal.II/grid/grid_generator.h>
 
-#include <isoimpact/discretization.h>
-#include <isoimpact/discretization_fea.h>
-#include <isoimpact/discretization_iga.h>
+#include <isoimpact/discretization/discretization.h>
+#include <isoimpact/discretization/discretization_fea.h>
+#include <isoimpact/discretization/discretization_iga.h>
 
 #include <cmath>
+
+using namespace dealii;
 
 namespace isoimpact
 {

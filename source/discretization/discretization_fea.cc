@@ -10,8 +10,10 @@
 
 #include <deal.II/numerics/vector_tools.h>
 
-#include <isoimpact/discretization_fea.h>
-#include <isoimpact/fe_serendipity.h>
+#include <isoimpact/discretization/discretization_fea.h>
+#include <isoimpact/fe/fe_serendipity.h>
+
+using namespace dealii;
 
 namespace isoimpact
 {

@@ -4,11 +4,13 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
-#include <isoimpact/discretization_iga.h>
+#include <isoimpact/discretization/discretization_iga.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
+
+using namespace dealii;
 
 namespace isoimpact
 {

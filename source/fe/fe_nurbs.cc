@@ -9,9 +9,11 @@
 #include <deal.II/grid/reference_cell.h>
 #include <deal.II/grid/tria.h>
 
-#include <isoimpact/fe_nurbs.h>
+#include <isoimpact/fe/fe_nurbs.h>
 
 #include <algorithm>
+
+using namespace dealii;
 
 namespace isoimpact
 {

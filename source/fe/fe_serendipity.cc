@@ -6,10 +6,12 @@
 
 #include <deal.II/lac/vector.h>
 
-#include <isoimpact/fe_serendipity.h>
+#include <isoimpact/fe/fe_serendipity.h>
 
 #include <array>
 #include <cmath>
+
+using namespace dealii;
 
 namespace isoimpact
 {

@@ -10,9 +10,11 @@
 #include <deal.II/grid/reference_cell.h>
 #include <deal.II/grid/tria.h>
 
-#include <isoimpact/mapping_nurbs.h>
+#include <isoimpact/fe/mapping_nurbs.h>
 
 #include <cmath>
+
+using namespace dealii;
 
 namespace isoimpact
 {

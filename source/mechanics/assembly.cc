@@ -6,9 +6,11 @@
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 
-#include <isoimpact/assembly.h>
+#include <isoimpact/mechanics/assembly.h>
 
 #include <sstream>
+
+using namespace dealii;
 
 namespace isoimpact
 {

@@ -2,7 +2,7 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/quadrature_lib.h>
 
-#include <isoimpact/contact.h>
+#include <isoimpact/mechanics/contact.h>
 
 #include <boost/geometry.hpp>
 #include <boost/geometry/index/rtree.hpp>
@@ -10,6 +10,8 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+
+using namespace dealii;
 
 namespace isoimpact
 {

@@ -4,10 +4,12 @@
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
 
-#include <isoimpact/elastic_body.h>
+#include <isoimpact/mechanics/elastic_body.h>
 
 #include <cmath>
 #include <random>
+
+using namespace dealii;
 
 namespace isoimpact
 {

@@ -2,10 +2,12 @@
 // (see rigid_obstacle.h).
 #include <deal.II/base/exceptions.h>
 
-#include <isoimpact/rigid_obstacle.h>
+#include <isoimpact/mechanics/rigid_obstacle.h>
 
 #include <cmath>
 #include <sstream>
+
+using namespace dealii;
 
 namespace isoimpact
 {

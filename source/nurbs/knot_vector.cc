@@ -1,12 +1,14 @@
 // Open knot vectors: validation, B-spline basis, Bezier extraction, knot
 // insertion and degree elevation.
-#include <isoimpact/nurbs_knot_vector.h>
+#include <isoimpact/nurbs/knot_vector.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <sstream>
 #include <string>
+
+using namespace dealii;
 
 namespace isoimpact
 {

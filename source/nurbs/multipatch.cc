@@ -2,13 +2,15 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/types.h>
 
-#include <isoimpact/nurbs_knot_vector.h>
-#include <isoimpact/nurbs_multipatch.h>
+#include <isoimpact/nurbs/knot_vector.h>
+#include <isoimpact/nurbs/multipatch.h>
 
 #include <algorithm>
 #include <cmath>
 #include <set>
 #include <string>
+
+using namespace dealii;
 
 namespace isoimpact
 {

@@ -2,9 +2,11 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
-#include <isoimpact/output.h>
+#include <isoimpact/scene/output.h>
 
 #include <fstream>
+
+using namespace dealii;
 
 namespace isoimpact
 {

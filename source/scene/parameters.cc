@@ -1,13 +1,15 @@
 // Layer 6: parameters.
 #include <deal.II/base/exceptions.h>
 
-#include <isoimpact/hertz_reference.h>
-#include <isoimpact/parameters.h>
+#include <isoimpact/scene/hertz_reference.h>
+#include <isoimpact/scene/parameters.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+using namespace dealii;
 
 namespace isoimpact
 {

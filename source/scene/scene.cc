@@ -1,5 +1,7 @@
 // Layer 6: building a scene.
-#include <isoimpact/scene.h>
+#include <isoimpact/scene/scene.h>
+
+using namespace dealii;
 
 namespace isoimpact
 {

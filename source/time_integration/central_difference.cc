@@ -1,7 +1,9 @@
 // Layer 5: central differences.
 #include <deal.II/base/exceptions.h>
 
-#include <isoimpact/central_difference.h>
+#include <isoimpact/time_integration/central_difference.h>
+
+using namespace dealii;
 
 namespace isoimpact
 {

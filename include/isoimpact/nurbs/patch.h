@@ -9,7 +9,7 @@
 
 #include <deal.II/lac/full_matrix.h>
 
-#include <isoimpact/nurbs_knot_vector.h>
+#include <isoimpact/nurbs/knot_vector.h>
 
 #include <array>
 #include <utility>

@@ -8,7 +8,6 @@
 
 namespace isoimpact
 {
-  using namespace dealii;
 
   struct ElasticMaterial
   {
@@ -41,17 +40,18 @@ namespace isoimpact
     }
 
     template <int dim>
-    SymmetricTensor<2, dim>
-    stress(const SymmetricTensor<2, dim> &strain) const
+    dealii::SymmetricTensor<2, dim>
+    stress(const dealii::SymmetricTensor<2, dim> &strain) const
     {
-      return lame_lambda() * trace(strain) * unit_symmetric_tensor<dim>() +
+      return lame_lambda() * trace(strain) *
+               dealii::unit_symmetric_tensor<dim>() +
              2. * lame_mu() * strain;
     }
 
     // Out-of-plane stress sigma_zz (plane strain; zero in plane stress).
     template <int dim>
     double
-    out_of_plane_stress(const SymmetricTensor<2, dim> &strain) const
+    out_of_plane_stress(const dealii::SymmetricTensor<2, dim> &strain) const
     {
       return plane_strain ? lame_lambda() * trace(strain) : 0.;
     }

@@ -27,7 +27,6 @@
 
 namespace isoimpact
 {
-  using namespace dealii;
 
   /**
    * One face of a body's boundary, seen as a curve x(eta), eta in [0,1], in
@@ -43,12 +42,12 @@ namespace isoimpact
   {
     unsigned int degree = 0;
     // Per node: the unknown (global index) of each displacement component.
-    std::vector<std::array<types::global_dof_index, dim>> node_dofs;
+    std::vector<std::array<dealii::types::global_dof_index, dim>> node_dofs;
     // Per node: reference position X_k and weight w_k.
-    std::vector<Point<dim>> node_positions;
-    std::vector<double>     node_weights;
+    std::vector<dealii::Point<dim>> node_positions;
+    std::vector<double>             node_weights;
     // n_nodes x (degree + 1).
-    FullMatrix<double> bernstein_coefficients;
+    dealii::FullMatrix<double> bernstein_coefficients;
     // +1 or -1: multiplies the tangent rotated by -90 degrees to give the
     // outward normal of the body.
     double normal_orientation = 1.;
@@ -88,16 +87,16 @@ namespace isoimpact
    */
   template <int dim>
   void
-  orient_segment(BoundarySegment<dim> &segment,
-                 const Tensor<1, dim> &outward_normal);
+  orient_segment(BoundarySegment<dim>         &segment,
+                 const dealii::Tensor<1, dim> &outward_normal);
 
   /**
    * Bernstein coefficients of nodal functions from their values at the
    * degree + 1 points eta_j = j / degree: row k of the result holds the
    * coefficients of the function whose values are row k of `values`.
    */
-  FullMatrix<double>
-  bernstein_coefficients_from_values(const FullMatrix<double> &values);
+  dealii::FullMatrix<double>
+  bernstein_coefficients_from_values(const dealii::FullMatrix<double> &values);
 
   /**
    * Shape of a body, understood by every discretisation. Boundary ids:
@@ -112,19 +111,19 @@ namespace isoimpact
       full_disk,
       rectangle
     };
-    Shape    shape  = Shape::half_disk;
-    Point<2> center = Point<2>(0., 4.);
-    double   radius = 4.;
-    Point<2> lower_left, upper_right; // for rectangles
+    Shape            shape  = Shape::half_disk;
+    dealii::Point<2> center = dealii::Point<2>(0., 4.);
+    double           radius = 4.;
+    dealii::Point<2> lower_left, upper_right; // for rectangles
     // Refinement: global levels, then local levels near `refinement_center`
     // within `refinement_radius` (FEA: cells; IGA: graded knots).
-    unsigned int global_refinements = 3;
-    unsigned int local_refinements  = 0;
-    Point<2>     refinement_center;
-    double       refinement_radius = 0.;
+    unsigned int     global_refinements = 3;
+    unsigned int     local_refinements  = 0;
+    dealii::Point<2> refinement_center;
+    double           refinement_radius = 0.;
 
-    static constexpr types::boundary_id curved_boundary_id   = 0;
-    static constexpr types::boundary_id symmetry_boundary_id = 1;
+    static constexpr dealii::types::boundary_id curved_boundary_id   = 0;
+    static constexpr dealii::types::boundary_id symmetry_boundary_id = 1;
   };
 
   /**
@@ -137,70 +136,72 @@ namespace isoimpact
   class Discretization
   {
   public:
-    using cell_iterator = typename DoFHandler<dim>::active_cell_iterator;
+    using cell_iterator =
+      typename dealii::DoFHandler<dim>::active_cell_iterator;
 
     virtual ~Discretization() = default;
 
     virtual std::string
     name() const = 0;
 
-    virtual const Triangulation<dim> &
+    virtual const dealii::Triangulation<dim> &
     get_triangulation() const = 0;
 
-    virtual const Mapping<dim> &
+    virtual const dealii::Mapping<dim> &
     get_mapping() const = 0;
 
     // The vector-valued element (dim displacement components).
-    virtual const FiniteElement<dim> &
+    virtual const dealii::FiniteElement<dim> &
     get_fe() const = 0;
 
-    virtual const DoFHandler<dim> &
+    virtual const dealii::DoFHandler<dim> &
     get_dof_handler() const = 0;
 
     // A Gauss rule that integrates the mass matrix of an affine cell exactly.
-    virtual const Quadrature<dim> &
+    virtual const dealii::Quadrature<dim> &
     get_cell_quadrature() const = 0;
 
     // Number of unknowns of the assembled system.
-    virtual types::global_dof_index
+    virtual dealii::types::global_dof_index
     n_dofs() const = 0;
 
     // The unknowns of the cell's shape functions, in the element's order.
     virtual void
-    get_dof_indices(const cell_iterator                  &cell,
-                    std::vector<types::global_dof_index> &indices) const = 0;
+    get_dof_indices(
+      const cell_iterator                          &cell,
+      std::vector<dealii::types::global_dof_index> &indices) const = 0;
 
     // Component (0..dim-1) of each unknown.
     virtual unsigned int
-    dof_component(const types::global_dof_index dof) const = 0;
+    dof_component(const dealii::types::global_dof_index dof) const = 0;
 
     // Reference position of each unknown's node (support or control point).
-    virtual Point<dim>
-    dof_position(const types::global_dof_index dof) const = 0;
+    virtual dealii::Point<dim>
+    dof_position(const dealii::types::global_dof_index dof) const = 0;
 
     // Constraints the discretisation itself needs (hanging nodes), closed
     // by the caller after adding its own.
     virtual void
-    make_constraints(AffineConstraints<double> &constraints) const = 0;
+    make_constraints(dealii::AffineConstraints<double> &constraints) const = 0;
 
     // u_component = 0 on the boundary with the given id (roller condition
     // on a straight symmetry line aligned with a coordinate axis).
     virtual void
     constrain_component_on_boundary(
-      const types::boundary_id   boundary_id,
-      const unsigned int         component,
-      AffineConstraints<double> &constraints) const = 0;
+      const dealii::types::boundary_id   boundary_id,
+      const unsigned int                 component,
+      dealii::AffineConstraints<double> &constraints) const = 0;
 
     // The faces of a boundary as curves (in no particular order; free_end
     // tells the ends of the boundary).
     virtual std::vector<BoundarySegment<dim>>
-    boundary_segments(const types::boundary_id boundary_id) const = 0;
+    boundary_segments(const dealii::types::boundary_id boundary_id) const = 0;
 
     // Turns a vector of unknowns into a vector on the DoFHandler, for
     // DataOut and for evaluation with FEValues.
     virtual void
-    to_dof_handler_vector(const Vector<double> &unknowns,
-                          Vector<double>       &dof_handler_vector) const = 0;
+    to_dof_handler_vector(const dealii::Vector<double> &unknowns,
+                          dealii::Vector<double> &dof_handler_vector) const = 0;
   };
 
   /**
@@ -212,7 +213,7 @@ namespace isoimpact
   template <int dim>
   void
   mark_free_segment_ends(const Discretization<dim>         &discretization,
-                         const types::boundary_id           boundary_id,
+                         const dealii::types::boundary_id   boundary_id,
                          std::vector<BoundarySegment<dim>> &segments);
 
   /**
@@ -223,7 +224,8 @@ namespace isoimpact
    * = left, right, bottom, top. No manifold is attached.
    */
   void
-  make_coarse_mesh(const BodyGeometry &geometry, Triangulation<2> &mesh);
+  make_coarse_mesh(const BodyGeometry       &geometry,
+                   dealii::Triangulation<2> &mesh);
 
   /**
    * The scalar element of an FEA discretisation: `lagrange` is FE_Q(p) (the

@@ -7,8 +7,8 @@
 #ifndef isoimpact_central_difference_h
 #define isoimpact_central_difference_h
 
-#include <isoimpact/contact.h>
-#include <isoimpact/elastic_body.h>
+#include <isoimpact/mechanics/contact.h>
+#include <isoimpact/mechanics/elastic_body.h>
 
 #include <vector>
 
@@ -22,7 +22,7 @@ namespace isoimpact
   {
     const ContactModel<dim> *contact;
     unsigned int             first_body;
-    unsigned int             second_body = numbers::invalid_unsigned_int;
+    unsigned int second_body = dealii::numbers::invalid_unsigned_int;
   };
 
   // Energies per unit thickness (J/m) of the modelled bodies.
@@ -83,13 +83,14 @@ namespace isoimpact
     double                               dt;
     double                               current_time = 0.;
     unsigned int                         step         = 0;
-    std::vector<Vector<double>>          half_step_velocity;
-    std::vector<Vector<double>>          forces;
+    std::vector<dealii::Vector<double>>  half_step_velocity;
+    std::vector<dealii::Vector<double>>  forces;
     // Per contact interaction, built once: its bodies' displacements and
     // force vectors, in the order the contact model expects.
-    std::vector<std::vector<const Vector<double> *>> contact_displacements;
-    std::vector<std::vector<Vector<double> *>>       contact_forces;
-    std::vector<ContactResult<dim>>                  results;
+    std::vector<std::vector<const dealii::Vector<double> *>>
+                                                       contact_displacements;
+    std::vector<std::vector<dealii::Vector<double> *>> contact_forces;
+    std::vector<ContactResult<dim>>                    results;
   };
 } // namespace isoimpact
 

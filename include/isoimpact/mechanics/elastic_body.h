@@ -5,7 +5,7 @@
 
 #include <deal.II/lac/precondition.h>
 
-#include <isoimpact/assembly.h>
+#include <isoimpact/mechanics/assembly.h>
 
 #include <memory>
 #include <string>
@@ -16,8 +16,8 @@ namespace isoimpact
   // u_component = 0 on a boundary (symmetry or roller support).
   struct RollerCondition
   {
-    types::boundary_id boundary_id;
-    unsigned int       component;
+    dealii::types::boundary_id boundary_id;
+    unsigned int               component;
   };
 
   template <int dim>
@@ -29,7 +29,7 @@ namespace isoimpact
                 const ElasticMaterial               &material,
                 const MassScheme                     mass_scheme,
                 const std::vector<RollerCondition>  &rollers,
-                const Tensor<1, dim>                &initial_velocity);
+                const dealii::Tensor<1, dim>        &initial_velocity);
 
     const std::string &
     name() const;
@@ -37,13 +37,13 @@ namespace isoimpact
     discretization() const;
     const ElasticMaterial &
     material() const;
-    const AffineConstraints<double> &
+    const dealii::AffineConstraints<double> &
     constraints() const;
     MassScheme
     mass_scheme() const;
-    const SparseMatrix<double> &
+    const dealii::SparseMatrix<double> &
     stiffness_matrix() const;
-    types::global_dof_index
+    dealii::types::global_dof_index
     n_dofs() const;
 
     /**
@@ -51,18 +51,18 @@ namespace isoimpact
      * condensation (it is condensed in place); a satisfies the constraints.
      */
     void
-    compute_acceleration(const Vector<double> &u,
-                         Vector<double>       &f,
-                         Vector<double>       &a) const;
+    compute_acceleration(const dealii::Vector<double> &u,
+                         dealii::Vector<double>       &f,
+                         dealii::Vector<double>       &a) const;
 
     // Energies per unit thickness (J/m) and momentum (kg/s per m) of the
     // modelled body, with the mass matrix in use.
     double
-    kinetic_energy(const Vector<double> &v) const;
+    kinetic_energy(const dealii::Vector<double> &v) const;
     double
-    strain_energy(const Vector<double> &u) const;
-    Tensor<1, dim>
-    momentum(const Vector<double> &v) const;
+    strain_energy(const dealii::Vector<double> &u) const;
+    dealii::Tensor<1, dim>
+    momentum(const dealii::Vector<double> &v) const;
     // Mass of the body as the mass matrix sees it (kg/m).
     double
     total_mass() const;
@@ -79,29 +79,32 @@ namespace isoimpact
 
     // The state: displacement, velocity and acceleration at the current
     // time, in the unknowns of the discretisation.
-    Vector<double> displacement;
-    Vector<double> velocity;
-    Vector<double> acceleration;
+    dealii::Vector<double> displacement;
+    dealii::Vector<double> velocity;
+    dealii::Vector<double> acceleration;
 
   private:
     // y = M x with the mass in use, constrained entries ignored.
     void
-    mass_vmult(Vector<double> &y, const Vector<double> &x) const;
+    mass_vmult(dealii::Vector<double>       &y,
+               const dealii::Vector<double> &x) const;
     void
-    solve_mass(Vector<double> &a, const Vector<double> &f) const;
+    solve_mass(dealii::Vector<double>       &a,
+               const dealii::Vector<double> &f) const;
 
-    std::string                              body_name;
-    std::unique_ptr<Discretization<dim>>     discretization_ptr;
-    ElasticMaterial                          body_material;
-    MassScheme                               scheme;
-    AffineConstraints<double>                body_constraints;
-    SparsityPattern                          sparsity_pattern;
-    SparseMatrix<double>                     stiffness;
-    SparseMatrix<double>                     consistent_mass;
-    Vector<double>                           lumped_mass;
-    Vector<double>                           inverse_lumped_mass;
-    PreconditionJacobi<SparseMatrix<double>> mass_preconditioner;
-    mutable Vector<double>                   scratch;
+    std::string                          body_name;
+    std::unique_ptr<Discretization<dim>> discretization_ptr;
+    ElasticMaterial                      body_material;
+    MassScheme                           scheme;
+    dealii::AffineConstraints<double>    body_constraints;
+    dealii::SparsityPattern              sparsity_pattern;
+    dealii::SparseMatrix<double>         stiffness;
+    dealii::SparseMatrix<double>         consistent_mass;
+    dealii::Vector<double>               lumped_mass;
+    dealii::Vector<double>               inverse_lumped_mass;
+    dealii::PreconditionJacobi<dealii::SparseMatrix<double>>
+                                   mass_preconditioner;
+    mutable dealii::Vector<double> scratch;
   };
 } // namespace isoimpact
 

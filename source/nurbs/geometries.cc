@@ -1,10 +1,12 @@
 // Ready-made NURBS patches and the patch text format.
-#include <isoimpact/nurbs_geometries.h>
+#include <isoimpact/nurbs/geometries.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+
+using namespace dealii;
 
 namespace isoimpact
 {

@@ -6,7 +6,7 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
-#include <isoimpact/nurbs_patch.h>
+#include <isoimpact/nurbs/patch.h>
 
 #include <memory>
 #include <utility>

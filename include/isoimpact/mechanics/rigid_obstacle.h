@@ -26,8 +26,8 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
-#include <isoimpact/contact.h>
-#include <isoimpact/discretization.h>
+#include <isoimpact/discretization/discretization.h>
+#include <isoimpact/mechanics/contact.h>
 
 #include <string>
 #include <vector>
@@ -47,12 +47,13 @@ namespace isoimpact
     // A plane through `point` with the normal `normal` (normalised here;
     // it must not be zero).
     static RigidObstacle
-    plane(const Point<dim> &point, const Tensor<1, dim> &normal);
+    plane(const dealii::Point<dim>     &point,
+          const dealii::Tensor<1, dim> &normal);
 
     // A cylinder (circle in 2D) of the given centre and radius (> 0); the
     // body is outside.
     static RigidObstacle
-    cylinder(const Point<dim> &center, const double radius);
+    cylinder(const dealii::Point<dim> &center, const double radius);
 
     Type
     type() const;
@@ -62,17 +63,17 @@ namespace isoimpact
     // (pointing out of the obstacle). At the centre of a cylinder, where the
     // normal is undefined, the normal is +e_y.
     double
-    gap(const Point<dim> &x, Tensor<1, dim> &normal) const;
+    gap(const dealii::Point<dim> &x, dealii::Tensor<1, dim> &normal) const;
 
     std::string
     description() const;
 
   private:
-    RigidObstacle()     = default;
-    Type           kind = Type::plane;
-    Point<dim>     origin; // plane point or cylinder centre
-    Tensor<1, dim> unit_normal;
-    double         radius = 0.;
+    RigidObstacle()             = default;
+    Type                   kind = Type::plane;
+    dealii::Point<dim>     origin; // plane point or cylinder centre
+    dealii::Tensor<1, dim> unit_normal;
+    double                 radius = 0.;
   };
 
   struct ObstacleContactSettings
@@ -99,16 +100,16 @@ namespace isoimpact
     // Adds the contact forces for the displacement u (the body's unknowns)
     // to f.
     ContactResult<dim>
-    add_forces(const Vector<double> &u,
-               Vector<double>       &f,
-               const bool            record_points = false) const;
+    add_forces(const dealii::Vector<double> &u,
+               dealii::Vector<double>       &f,
+               const bool                    record_points = false) const;
 
     unsigned int
     n_bodies() const override;
 
     ContactResult<dim>
-    evaluate(const std::vector<const Vector<double> *> &displacements,
-             const std::vector<Vector<double> *>       &forces,
+    evaluate(const std::vector<const dealii::Vector<double> *> &displacements,
+             const std::vector<dealii::Vector<double> *>       &forces,
              const bool record_points) const override;
 
     std::string

@@ -7,10 +7,10 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
-#include <isoimpact/assembly.h>
-#include <isoimpact/contact.h>
-#include <isoimpact/discretization.h>
-#include <isoimpact/material.h>
+#include <isoimpact/discretization/discretization.h>
+#include <isoimpact/mechanics/assembly.h>
+#include <isoimpact/mechanics/contact.h>
+#include <isoimpact/mechanics/material.h>
 
 #include <array>
 #include <stdexcept>
@@ -29,10 +29,10 @@ namespace isoimpact
 
   struct BodyParameters
   {
-    BodyGeometry    geometry;
-    ElasticMaterial material;
-    Tensor<1, 2>    initial_velocity;
-    bool            symmetry_cut = true;
+    BodyGeometry         geometry;
+    ElasticMaterial      material;
+    dealii::Tensor<1, 2> initial_velocity;
+    bool                 symmetry_cut = true;
   };
 
   // A rigid, fixed, frictionless obstacle (subsection Obstacle). With a
@@ -40,12 +40,12 @@ namespace isoimpact
   // Body 2 is ignored.
   struct ObstacleParameters
   {
-    std::string  type = "none";               // none, plane, cylinder
-    Point<2>     point;                       // plane
-    Tensor<1, 2> normal;                      // plane, out of the obstacle
-    Point<2>     center  = Point<2>(0., -4.); // cylinder
-    double       radius  = 4.;                // cylinder
-    double       penalty = 2e5;               // Pa/m
+    std::string          type = "none"; // none, plane, cylinder
+    dealii::Point<2>     point;         // plane
+    dealii::Tensor<1, 2> normal;        // plane, out of the obstacle
+    dealii::Point<2>     center  = dealii::Point<2>(0., -4.); // cylinder
+    double               radius  = 4.;                        // cylinder
+    double               penalty = 2e5;                       // Pa/m
 
     bool
     active() const
@@ -93,9 +93,9 @@ namespace isoimpact
     symmetry_factor() const;
 
     static void
-    declare(ParameterHandler &prm);
+    declare(dealii::ParameterHandler &prm);
     void
-    parse(ParameterHandler &prm);
+    parse(dealii::ParameterHandler &prm);
   };
 
   // Reads and checks a parameter file; throws InputError.

@@ -1,12 +1,14 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/quadrature_lib.h>
 
-#include <isoimpact/hertz_reference.h>
+#include <isoimpact/scene/hertz_reference.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
+
+using namespace dealii;
 
 namespace isoimpact
 {

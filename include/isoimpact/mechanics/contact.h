@@ -17,7 +17,7 @@
 
 #include <deal.II/base/tensor.h>
 
-#include <isoimpact/discretization.h>
+#include <isoimpact/discretization/discretization.h>
 
 #include <array>
 #include <memory>
@@ -46,10 +46,10 @@ namespace isoimpact
   template <int dim>
   struct ContactPoint
   {
-    Point<dim>   reference_position; // on the slave surface
-    double       pressure;           // eps_N,effective * |g_N|, Pa
-    double       gap;                // g_N, m (negative)
-    unsigned int slave_surface;      // 0 or 1
+    dealii::Point<dim> reference_position; // on the slave surface
+    double             pressure;           // eps_N,effective * |g_N|, Pa
+    double             gap;                // g_N, m (negative)
+    unsigned int       slave_surface;      // 0 or 1
   };
 
   template <int dim>
@@ -57,7 +57,7 @@ namespace isoimpact
   {
     double                         energy = 0.; // J/m (per unit thickness)
     double                         max_pressure = 0.;      // Pa
-    Tensor<1, dim>                 force_on_first_surface; // N/m, resultant
+    dealii::Tensor<1, dim>         force_on_first_surface; // N/m, resultant
     unsigned int                   n_active_points = 0;
     std::vector<ContactPoint<dim>> points;
   };
@@ -74,7 +74,7 @@ namespace isoimpact
     unsigned int        segment;
     std::vector<double> shape_values;
     double              weight;
-    Point<dim>          reference_position;
+    dealii::Point<dim>  reference_position;
   };
 
   /**
@@ -92,10 +92,10 @@ namespace isoimpact
    * Current position sum_k R_k (X_k + u_k) of a Gauss point of `segment`.
    */
   template <int dim>
-  Point<dim>
+  dealii::Point<dim>
   current_position(const BoundarySegment<dim>        &segment,
                    const SurfaceQuadraturePoint<dim> &point,
-                   const Vector<double>              &u);
+                   const dealii::Vector<double>      &u);
 
   /**
    * Adds the point force `force` (traction times weight) at a point where
@@ -103,10 +103,10 @@ namespace isoimpact
    */
   template <int dim>
   void
-  distribute_point_force(const BoundarySegment<dim> &segment,
-                         const std::vector<double>  &shape_values,
-                         const Tensor<1, dim>       &force,
-                         Vector<double>             &f);
+  distribute_point_force(const BoundarySegment<dim>   &segment,
+                         const std::vector<double>    &shape_values,
+                         const dealii::Tensor<1, dim> &force,
+                         dealii::Vector<double>       &f);
 
   /**
    * The interface through which the time integrator (layer 5) sees a contact
@@ -126,8 +126,8 @@ namespace isoimpact
 
     // displacements and forces: one entry per body (n_bodies()).
     virtual ContactResult<dim>
-    evaluate(const std::vector<const Vector<double> *> &displacements,
-             const std::vector<Vector<double> *>       &forces,
+    evaluate(const std::vector<const dealii::Vector<double> *> &displacements,
+             const std::vector<dealii::Vector<double> *>       &forces,
              const bool record_points) const = 0;
 
     // One line for the program's set-up report.
@@ -149,8 +149,8 @@ namespace isoimpact
 
     // add_forces() with displacements[0..1] and forces[0..1].
     ContactResult<dim>
-    evaluate(const std::vector<const Vector<double> *> &displacements,
-             const std::vector<Vector<double> *>       &forces,
+    evaluate(const std::vector<const dealii::Vector<double> *> &displacements,
+             const std::vector<dealii::Vector<double> *>       &forces,
              const bool record_points) const override;
 
     std::string
@@ -159,11 +159,11 @@ namespace isoimpact
     // Adds the contact forces for displacements u (in each body's unknowns)
     // to the force vectors f; returns energy, pressure and resultant.
     ContactResult<dim>
-    add_forces(const Vector<double> &u_first,
-               const Vector<double> &u_second,
-               Vector<double>       &f_first,
-               Vector<double>       &f_second,
-               const bool            record_points = false) const;
+    add_forces(const dealii::Vector<double> &u_first,
+               const dealii::Vector<double> &u_second,
+               dealii::Vector<double>       &f_first,
+               dealii::Vector<double>       &f_second,
+               const bool                    record_points = false) const;
 
     double
     penalty_per_pass() const;

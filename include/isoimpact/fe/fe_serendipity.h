@@ -14,7 +14,6 @@
 
 namespace isoimpact
 {
-  using namespace dealii;
 
   /**
    * The quadratic serendipity space on the unit square,
@@ -30,7 +29,7 @@ namespace isoimpact
    * derivatives of every order are exact. Only dim = 2.
    */
   template <int dim>
-  class SerendipityPolynomials : public ScalarPolynomialsBase<dim>
+  class SerendipityPolynomials : public dealii::ScalarPolynomialsBase<dim>
   {
     static_assert(dim == 2, "serendipity polynomials: only dim = 2");
 
@@ -38,38 +37,42 @@ namespace isoimpact
     SerendipityPolynomials();
 
     // Node i of the basis (see above).
-    static Point<dim>
+    static dealii::Point<dim>
     node(const unsigned int i);
 
     void
-    evaluate(const Point<dim>            &unit_point,
-             std::vector<double>         &values,
-             std::vector<Tensor<1, dim>> &grads,
-             std::vector<Tensor<2, dim>> &grad_grads,
-             std::vector<Tensor<3, dim>> &third_derivatives,
-             std::vector<Tensor<4, dim>> &fourth_derivatives) const override;
+    evaluate(
+      const dealii::Point<dim>            &unit_point,
+      std::vector<double>                 &values,
+      std::vector<dealii::Tensor<1, dim>> &grads,
+      std::vector<dealii::Tensor<2, dim>> &grad_grads,
+      std::vector<dealii::Tensor<3, dim>> &third_derivatives,
+      std::vector<dealii::Tensor<4, dim>> &fourth_derivatives) const override;
 
     double
-    compute_value(const unsigned int i, const Point<dim> &p) const override;
+    compute_value(const unsigned int        i,
+                  const dealii::Point<dim> &p) const override;
 
-    Tensor<1, dim>
-    compute_1st_derivative(const unsigned int i,
-                           const Point<dim>  &p) const override;
-    Tensor<2, dim>
-    compute_2nd_derivative(const unsigned int i,
-                           const Point<dim>  &p) const override;
-    Tensor<3, dim>
-    compute_3rd_derivative(const unsigned int i,
-                           const Point<dim>  &p) const override;
-    Tensor<4, dim>
-    compute_4th_derivative(const unsigned int i,
-                           const Point<dim>  &p) const override;
-    Tensor<1, dim>
-    compute_grad(const unsigned int i, const Point<dim> &p) const override;
-    Tensor<2, dim>
-    compute_grad_grad(const unsigned int i, const Point<dim> &p) const override;
+    dealii::Tensor<1, dim>
+    compute_1st_derivative(const unsigned int        i,
+                           const dealii::Point<dim> &p) const override;
+    dealii::Tensor<2, dim>
+    compute_2nd_derivative(const unsigned int        i,
+                           const dealii::Point<dim> &p) const override;
+    dealii::Tensor<3, dim>
+    compute_3rd_derivative(const unsigned int        i,
+                           const dealii::Point<dim> &p) const override;
+    dealii::Tensor<4, dim>
+    compute_4th_derivative(const unsigned int        i,
+                           const dealii::Point<dim> &p) const override;
+    dealii::Tensor<1, dim>
+    compute_grad(const unsigned int        i,
+                 const dealii::Point<dim> &p) const override;
+    dealii::Tensor<2, dim>
+    compute_grad_grad(const unsigned int        i,
+                      const dealii::Point<dim> &p) const override;
 
-    std::unique_ptr<ScalarPolynomialsBase<dim>>
+    std::unique_ptr<dealii::ScalarPolynomialsBase<dim>>
     clone() const override;
 
     std::string
@@ -78,17 +81,17 @@ namespace isoimpact
   private:
     // d^(ax + ay) phi_i / dx^ax dy^ay at p.
     double
-    derivative(const unsigned int i,
-               const unsigned int ax,
-               const unsigned int ay,
-               const Point<dim>  &p) const;
+    derivative(const unsigned int        i,
+               const unsigned int        ax,
+               const unsigned int        ay,
+               const dealii::Point<dim> &p) const;
 
     template <int order>
-    Tensor<order, dim>
-    derivative_tensor(const unsigned int i, const Point<dim> &p) const;
+    dealii::Tensor<order, dim>
+    derivative_tensor(const unsigned int i, const dealii::Point<dim> &p) const;
 
     // coefficients(m, i): coefficient of monomial m in function i.
-    FullMatrix<double> coefficients;
+    dealii::FullMatrix<double> coefficients;
   };
 
 
@@ -108,7 +111,7 @@ namespace isoimpact
    * matrices are not.
    */
   template <int dim>
-  class FE_Serendipity : public FE_Poly<dim>
+  class FE_Serendipity : public dealii::FE_Poly<dim>
   {
     static_assert(dim == 2, "FE_Serendipity: only dim = 2");
 
@@ -120,7 +123,7 @@ namespace isoimpact
     std::string
     get_name() const override;
 
-    std::unique_ptr<FiniteElement<dim>>
+    std::unique_ptr<dealii::FiniteElement<dim>>
     clone() const override;
 
     bool
@@ -130,8 +133,8 @@ namespace isoimpact
     // Nodal values: dof i is the value at support point i.
     void
     convert_generalized_support_point_values_to_dof_values(
-      const std::vector<Vector<double>> &support_point_values,
-      std::vector<double>               &nodal_values) const override;
+      const std::vector<dealii::Vector<double>> &support_point_values,
+      std::vector<double>                       &nodal_values) const override;
   };
 } // namespace isoimpact
 

@@ -8,11 +8,11 @@
 
 #include <deal.II/fe/fe_system.h>
 
-#include <isoimpact/discretization.h>
-#include <isoimpact/fe_nurbs.h>
-#include <isoimpact/mapping_nurbs.h>
-#include <isoimpact/nurbs_geometries.h>
-#include <isoimpact/nurbs_multipatch.h>
+#include <isoimpact/discretization/discretization.h>
+#include <isoimpact/fe/fe_nurbs.h>
+#include <isoimpact/fe/mapping_nurbs.h>
+#include <isoimpact/nurbs/geometries.h>
+#include <isoimpact/nurbs/multipatch.h>
 
 #include <array>
 #include <memory>
@@ -67,38 +67,41 @@ namespace isoimpact
 
     std::string
     name() const override;
-    const Triangulation<dim> &
+    const dealii::Triangulation<dim> &
     get_triangulation() const override;
-    const Mapping<dim> &
+    const dealii::Mapping<dim> &
     get_mapping() const override;
-    const FiniteElement<dim> &
+    const dealii::FiniteElement<dim> &
     get_fe() const override;
-    const DoFHandler<dim> &
+    const dealii::DoFHandler<dim> &
     get_dof_handler() const override;
-    const Quadrature<dim> &
+    const dealii::Quadrature<dim> &
     get_cell_quadrature() const override;
-    types::global_dof_index
+    dealii::types::global_dof_index
     n_dofs() const override;
     void
     get_dof_indices(
-      const cell_iterator                  &cell,
-      std::vector<types::global_dof_index> &indices) const override;
+      const cell_iterator                          &cell,
+      std::vector<dealii::types::global_dof_index> &indices) const override;
     unsigned int
-    dof_component(const types::global_dof_index dof) const override;
-    Point<dim>
-    dof_position(const types::global_dof_index dof) const override;
+    dof_component(const dealii::types::global_dof_index dof) const override;
+    dealii::Point<dim>
+    dof_position(const dealii::types::global_dof_index dof) const override;
     void
-    make_constraints(AffineConstraints<double> &constraints) const override;
+    make_constraints(
+      dealii::AffineConstraints<double> &constraints) const override;
     void
     constrain_component_on_boundary(
-      const types::boundary_id   boundary_id,
-      const unsigned int         component,
-      AffineConstraints<double> &constraints) const override;
+      const dealii::types::boundary_id   boundary_id,
+      const unsigned int                 component,
+      dealii::AffineConstraints<double> &constraints) const override;
     std::vector<BoundarySegment<dim>>
-    boundary_segments(const types::boundary_id boundary_id) const override;
+    boundary_segments(
+      const dealii::types::boundary_id boundary_id) const override;
     void
-    to_dof_handler_vector(const Vector<double> &unknowns,
-                          Vector<double> &dof_handler_vector) const override;
+    to_dof_handler_vector(
+      const dealii::Vector<double> &unknowns,
+      dealii::Vector<double>       &dof_handler_vector) const override;
 
     // The patches with their global control point numbering.
     const nurbs::MultiPatch<dim> &
@@ -112,8 +115,8 @@ namespace isoimpact
     // (numbers::internal_face_boundary_id on interfaces).
     struct PatchSet
     {
-      std::vector<nurbs::NURBSPatch<dim>>                  patches;
-      std::vector<std::array<types::boundary_id, 2 * dim>> side_ids;
+      std::vector<nurbs::NURBSPatch<dim>>                          patches;
+      std::vector<std::array<dealii::types::boundary_id, 2 * dim>> side_ids;
     };
 
     explicit DiscretizationIGA(const PatchSet &patch_set);
@@ -127,13 +130,13 @@ namespace isoimpact
     void
     make_mesh();
 
-    std::shared_ptr<const nurbs::MultiPatch<dim>>        patches;
-    std::vector<std::array<types::boundary_id, 2 * dim>> side_ids;
-    Triangulation<dim>                                   triangulation;
-    FESystem<dim>                                        fe;
-    MappingNURBS<dim>                                    mapping;
-    QGauss<dim>                                          cell_quadrature;
-    DoFHandler<dim>                                      dof_handler;
+    std::shared_ptr<const nurbs::MultiPatch<dim>>                patches;
+    std::vector<std::array<dealii::types::boundary_id, 2 * dim>> side_ids;
+    dealii::Triangulation<dim>                                   triangulation;
+    dealii::FESystem<dim>                                        fe;
+    MappingNURBS<dim>                                            mapping;
+    dealii::QGauss<dim>     cell_quadrature;
+    dealii::DoFHandler<dim> dof_handler;
   };
 } // namespace isoimpact
 

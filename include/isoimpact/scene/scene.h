@@ -3,10 +3,10 @@
 #ifndef isoimpact_scene_h
 #define isoimpact_scene_h
 
-#include <isoimpact/central_difference.h>
-#include <isoimpact/hertz_reference.h>
-#include <isoimpact/parameters.h>
-#include <isoimpact/rigid_obstacle.h>
+#include <isoimpact/mechanics/rigid_obstacle.h>
+#include <isoimpact/scene/hertz_reference.h>
+#include <isoimpact/scene/parameters.h>
+#include <isoimpact/time_integration/central_difference.h>
 
 #include <memory>
 #include <vector>
@@ -25,7 +25,7 @@ namespace isoimpact
     // Unit vector along the relative initial velocity of the two bodies (of
     // the fixed obstacle and body 1): the contact force reported is the
     // resultant on body 1 along it.
-    Tensor<1, 2> impact_direction;
+    dealii::Tensor<1, 2> impact_direction;
     // The quasi-static Hertz impact, if the parameters ask for it. Against
     // a rigid plane: the impact of body 1 and its mirror image at twice the
     // normal speed (the same force history); against a rigid cylinder: the
@@ -35,7 +35,7 @@ namespace isoimpact
     std::vector<ElasticBody<2> *>
     body_pointers() const;
 
-    types::global_dof_index
+    dealii::types::global_dof_index
     n_dofs() const;
   };
 

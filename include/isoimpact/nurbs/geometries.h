@@ -5,7 +5,7 @@
 
 #include <deal.II/base/point.h>
 
-#include <isoimpact/nurbs_patch.h>
+#include <isoimpact/nurbs/patch.h>
 
 #include <array>
 #include <iosfwd>

@@ -3,7 +3,7 @@
 #ifndef isoimpact_output_h
 #define isoimpact_output_h
 
-#include <isoimpact/elastic_body.h>
+#include <isoimpact/mechanics/elastic_body.h>
 
 #include <string>
 #include <utility>

@@ -1,11 +1,13 @@
 // NURBS patch: validation, numbering, evaluation, rational basis per element
 // and refinement.
-#include <isoimpact/nurbs_patch.h>
+#include <isoimpact/nurbs/patch.h>
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
+
+using namespace dealii;
 
 namespace isoimpact
 {

@@ -1,0 +1,83 @@
+// Layer 4: stiffness and mass matrices and mass lumping, assembled through
+// the discretisation interface (identical code for FEA and IGA).
+#ifndef isoimpact_assembly_h
+#define isoimpact_assembly_h
+
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+
+#include <isoimpact/discretization/discretization.h>
+#include <isoimpact/mechanics/material.h>
+
+#include <functional>
+#include <string>
+
+namespace isoimpact
+{
+  enum class MassScheme
+  {
+    consistent,
+    row_sum,
+    hrz
+  };
+
+  // "consistent", "row-sum", "HRZ" (the spelling of the parameter files).
+  MassScheme
+  mass_scheme_from_string(const std::string &name);
+  std::string
+  to_string(const MassScheme scheme);
+
+  template <int dim>
+  void
+  make_sparsity_pattern(const Discretization<dim>               &discretization,
+                        const dealii::AffineConstraints<double> &constraints,
+                        dealii::SparsityPattern &sparsity_pattern);
+
+  template <int dim>
+  void
+  assemble_stiffness_matrix(
+    const Discretization<dim>               &discretization,
+    const ElasticMaterial                   &material,
+    const dealii::AffineConstraints<double> &constraints,
+    dealii::SparseMatrix<double>            &stiffness_matrix);
+
+  template <int dim>
+  void
+  assemble_consistent_mass_matrix(
+    const Discretization<dim>               &discretization,
+    const double                             density,
+    const dealii::AffineConstraints<double> &constraints,
+    dealii::SparseMatrix<double>            &mass_matrix);
+
+  /**
+   * Lumped (diagonal) mass, row-sum or HRZ, computed per element in the
+   * basis of the unknowns and condensed with the constraints. A non-positive
+   * element entry throws an error that names the scheme and the element.
+   * Constrained unknowns get mass zero.
+   */
+  template <int dim>
+  dealii::Vector<double>
+  assemble_lumped_mass(const Discretization<dim>               &discretization,
+                       const double                             density,
+                       const MassScheme                         scheme,
+                       const dealii::AffineConstraints<double> &constraints);
+
+  // Load vector of a body force b(x) [N/m^3] (per unit thickness in 2D),
+  // condensed with `constraints`; `rhs` is resized to n_dofs.
+  template <int dim>
+  void
+  assemble_load_vector(
+    const Discretization<dim> &discretization,
+    const std::function<dealii::Tensor<1, dim>(const dealii::Point<dim> &)>
+                                            &body_force,
+    const dealii::AffineConstraints<double> &constraints,
+    dealii::Vector<double>                  &rhs);
+
+  // Integral of the density over the mesh (exact geometry of the mapping).
+  template <int dim>
+  double
+  integrate_mass(const Discretization<dim> &discretization,
+                 const double               density);
+} // namespace isoimpact
+
+#endif
