@@ -100,3 +100,12 @@ add_test(NAME hertz_fea_q8_hrz_benchmark
     $<TARGET_FILE:isoimpact_program>
     ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_q8_hrz_coarse.prm ${_work})
 set_tests_properties(hertz_fea_q8_hrz_benchmark PROPERTIES TIMEOUT 600)
+
+# The layering (doc/architecture.md) from the #include lines: a file of layer
+# k includes no header of a layer above k; and the check fails, naming the
+# file, once a wrong-way include is added to a copy of the tree.
+add_test(NAME layering
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/check_layering.py ${CMAKE_SOURCE_DIR})
+add_test(NAME layering_check_can_fail
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/check_layering.py --self-test
+    ${CMAKE_SOURCE_DIR})
