@@ -109,3 +109,16 @@ add_test(NAME layering
 add_test(NAME layering_check_can_fail
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/check_layering.py --self-test
     ${CMAKE_SOURCE_DIR})
+
+# The isogeometric impact example (two NURBS half cylinders, two-pass penalty
+# contact, central differences), likewise; it asserts the contact duration
+# against the analytic Hertz impact to 2 %.
+add_test(NAME example_nurbs_impact_builds_against_library
+  COMMAND ${CMAKE_CTEST_COMMAND}
+    --build-and-test ${CMAKE_SOURCE_DIR}/examples/nurbs_impact
+                     ${CMAKE_CURRENT_BINARY_DIR}/example_nurbs_impact
+    --build-generator ${CMAKE_GENERATOR}
+    --build-options -Disoimpact_DIR=${CMAKE_BINARY_DIR}
+                    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
+    --test-command nurbs_impact)
+set_tests_properties(example_nurbs_impact_builds_against_library PROPERTIES TIMEOUT 900)
