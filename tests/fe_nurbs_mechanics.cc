@@ -8,22 +8,13 @@
 //    3, and as one patch with knots graded toward the contact corner. All
 //    lumped entries are positive (NURBS functions are non-negative, so row sums
 //    are; HRZ scales positive diagonals).
-// 2. Patch test: a linear field u = A X + b set on the control points is
-//    reproduced exactly (sum R_a = 1, sum R_a P_a = x), so the strain is
-//    sym(A) everywhere and 0.5 u^T K u = 0.5 V sigma : eps with V the area
-//    (integrate_mass with density 1) to 1e-10 relative; the interior
-//    residual (K u)_i vanishes for control points off the boundary and K u
-//    vanishes for a rigid motion (1e-10 relative to ||K|| ||u||); strain and
-//    stress evaluated with FEValues on the DoFHandler vector
-//    (to_dof_handler_vector) equal sym(A), sigma(A) to 1e-10 relative.
-//    On a rectangle and on the half disk.
+// 2. The patch test (rectangle, half disk, locally refined and graded half
+//    disk) is in tests/patch_test.cc, shared with FEA.
 // 3. Interface details: n_dofs = 2 n_control_points, dof_position =
 //    control point, constraints on the symmetry boundary fix the control
 //    points of the cut, boundary segments of the arc reproduce the circle.
 #include <deal.II/base/numbers.h>
-#include <deal.II/base/quadrature_lib.h>
 
-#include <deal.II/fe/fe_values.h>
 
 #include <isoimpact/discretization/discretization_iga.h>
 #include <isoimpact/mechanics/assembly.h>
@@ -32,10 +23,9 @@
 #include <cmath>
 #include <functional>
 #include <memory>
-#include <set>
 #include <string>
 
-#include "tests.h"
+#include "test_helpers.h"
 
 using namespace dealii;
 
@@ -43,24 +33,10 @@ using namespace isoimpact;
 
 namespace
 {
-  const double   radius  = 4.;
-  const double   density = 1.3;
-  const Point<2> center(0., 4.);
-
-  BodyGeometry
-  half_disk(const unsigned int global_refinements,
-            const unsigned int local_refinements = 0)
-  {
-    BodyGeometry body;
-    body.shape              = BodyGeometry::Shape::half_disk;
-    body.center             = center;
-    body.radius             = radius;
-    body.global_refinements = global_refinements;
-    body.local_refinements  = local_refinements;
-    body.refinement_center  = Point<2>(0., 0.);
-    body.refinement_radius  = 1.5;
-    return body;
-  }
+  const double radius  = isoimpact_tests::half_disk_radius;
+  const double density = 1.3;
+  using isoimpact_tests::half_disk;
+  using isoimpact_tests::half_disk_center;
 
   using Factory = std::function<std::unique_ptr<Discretization<2>>()>;
 
@@ -73,21 +49,16 @@ namespace
   }
 
   // One patch over the half disk with knots graded toward the contact
-  // corner (multi-patch bodies refuse graded refinement).
+  // corner.
   Factory
   graded_single_patch(const unsigned int global_refinements,
                       const unsigned int layers,
                       const unsigned int degree)
   {
     return [=]() {
-      auto geometry = nurbs::half_disk(radius, center);
-      for (unsigned int d = 0; d < 2; ++d)
-        geometry.patch.elevate_degree(d, degree - 2);
-      geometry.patch.refine_uniformly(1u << global_refinements);
-      for (unsigned int d = 0; d < 2; ++d)
-        geometry.patch.refine_graded(d, 0, layers, 2.);
-      return std::unique_ptr<Discretization<2>>(
-        std::make_unique<DiscretizationIGA<2>>(geometry));
+      return isoimpact_tests::graded_half_disk_iga(global_refinements,
+                                                   layers,
+                                                   degree);
     };
   }
 
@@ -130,112 +101,6 @@ namespace
             CHECK_CLOSE(sum, 2. * exact, 1e-12);
           }
       }
-  }
-
-  Vector<double>
-  linear_field(const Discretization<2> &discretization,
-               const Tensor<2, 2>      &A,
-               const Tensor<1, 2>      &b)
-  {
-    Vector<double> u(discretization.n_dofs());
-    for (types::global_dof_index i = 0; i < u.size(); ++i)
-      {
-        const Tensor<1, 2> value = A * discretization.dof_position(i) + b;
-        u(i)                     = value[discretization.dof_component(i)];
-      }
-    return u;
-  }
-
-  void
-  patch_test(const std::string &name, const Factory &make)
-  {
-    ElasticMaterial material;
-    material.youngs_modulus = 1000.;
-    material.poisson_ratio  = 0.2;
-    const ElasticBody<2>        body("patch",
-                              make(),
-                              material,
-                              MassScheme::row_sum,
-                              {},
-                              Tensor<1, 2>());
-    const Discretization<2>    &discretization = body.discretization();
-    const SparseMatrix<double> &K              = body.stiffness_matrix();
-    const double                area = integrate_mass(discretization, 1.);
-    std::cout << "patch test, " << name << ", " << discretization.name()
-              << ", area " << area << std::endl;
-
-    Tensor<2, 2> A;
-    A[0][0] = 0.3;
-    A[0][1] = 0.2;
-    A[1][0] = -0.1;
-    A[1][1] = -0.15;
-    const Tensor<1, 2>          b({0.7, -0.4});
-    const SymmetricTensor<2, 2> eps   = symmetrize(A);
-    const SymmetricTensor<2, 2> sigma = material.stress(eps);
-
-    const Vector<double> u = linear_field(discretization, A, b);
-    CHECK_CLOSE(body.strain_energy(u), 0.5 * area * (sigma * eps), 1e-10);
-
-    std::set<types::global_dof_index> boundary;
-    for (types::boundary_id id = 0; id < 4; ++id)
-      for (const auto &segment : discretization.boundary_segments(id))
-        for (const auto &node : segment.node_dofs)
-          for (const auto dof : node)
-            boundary.insert(dof);
-    CHECK_TRUE(!boundary.empty() && boundary.size() < discretization.n_dofs());
-
-    Vector<double> Ku(u.size());
-    K.vmult(Ku, u);
-    const double scale    = K.linfty_norm() * u.l2_norm();
-    double       interior = 0., on_boundary = 0.;
-    for (types::global_dof_index i = 0; i < u.size(); ++i)
-      (boundary.count(i) ? on_boundary : interior) =
-        std::max(boundary.count(i) ? on_boundary : interior, std::abs(Ku(i)));
-    CHECK_CLOSE_ABS(interior / scale, 0., 1e-10);
-    CHECK_TRUE(on_boundary / scale > 1e-6);
-
-    Tensor<2, 2> W;
-    W[0][1]                    = -0.25;
-    W[1][0]                    = 0.25;
-    const Vector<double> rigid = linear_field(discretization, W, b);
-    K.vmult(Ku, rigid);
-    CHECK_CLOSE_ABS(Ku.l2_norm() / (K.linfty_norm() * rigid.l2_norm()),
-                    0.,
-                    1e-10);
-
-    Vector<double> nodal;
-    discretization.to_dof_handler_vector(u, nodal);
-    const FEValuesExtractors::Vector   displacement(0);
-    const QGauss<2>                    quadrature(4);
-    FEValues<2>                        fe_values(discretization.get_mapping(),
-                          discretization.get_fe(),
-                          quadrature,
-                          update_gradients | update_values |
-                            update_quadrature_points);
-    std::vector<SymmetricTensor<2, 2>> strains(quadrature.size());
-    std::vector<Tensor<1, 2>>          values(quadrature.size());
-    double strain_error = 0., stress_error = 0., value_error = 0.;
-    for (const auto &cell :
-         discretization.get_dof_handler().active_cell_iterators())
-      {
-        fe_values.reinit(cell);
-        fe_values[displacement].get_function_symmetric_gradients(nodal,
-                                                                 strains);
-        fe_values[displacement].get_function_values(nodal, values);
-        for (unsigned int q = 0; q < quadrature.size(); ++q)
-          {
-            strain_error = std::max(strain_error, (strains[q] - eps).norm());
-            stress_error =
-              std::max(stress_error,
-                       (material.stress(strains[q]) - sigma).norm());
-            value_error = std::max(
-              value_error,
-              (values[q] - (A * fe_values.quadrature_point(q) + b)).norm());
-          }
-      }
-    CHECK_CLOSE_ABS(strain_error / eps.norm(), 0., 1e-10);
-    CHECK_CLOSE_ABS(stress_error / sigma.norm(), 0., 1e-10);
-    CHECK_CLOSE_ABS(value_error, 0., 1e-10);
   }
 
   void
@@ -294,11 +159,13 @@ namespace
                 tangent += dr[n] * segment.node_positions[n];
               }
             radius_error =
-              std::max(radius_error, std::abs(x.distance(center) - radius));
+              std::max(radius_error,
+                       std::abs(x.distance(half_disk_center) - radius));
             Tensor<1, 2> normal({tangent[1], -tangent[0]});
             normal *= segment.normal_orientation / normal.norm();
             normal_error =
-              std::max(normal_error, (normal - (x - center) / radius).norm());
+              std::max(normal_error,
+                       (normal - (x - half_disk_center) / radius).norm());
           }
       }
     CHECK_CLOSE_ABS(radius_error, 0., 1e-13);
@@ -318,21 +185,12 @@ main()
   check_mass(multipatch(half_disk(2), 3));
   check_mass(graded_single_patch(2, 3, 2));
 
-  BodyGeometry rectangle;
-  rectangle.shape              = BodyGeometry::Shape::rectangle;
-  rectangle.lower_left         = Point<2>(-1., 0.5);
-  rectangle.upper_right        = Point<2>(2., 2.);
-  rectangle.global_refinements = 2;
-  patch_test("rectangle", multipatch(rectangle, 2));
-  patch_test("rectangle", multipatch(rectangle, 3));
-  patch_test("half disk", multipatch(half_disk(2), 2));
-  patch_test("graded half disk", graded_single_patch(1, 2, 3));
-
   // Local refinement of the glued patches along knot lines: 2 passes halve
   // the spans near the contact point (0, 0) twice (smallest cell diameter
   // at the contact point a quarter of the uniform one, to 5 %: halving
   // in the rational parameter is not halving the arc length), interfaces stay
-  // conforming (MultiPatch refuses others), mass and patch test as before.
+  // conforming (MultiPatch refuses others), mass as before (the patch test is
+  // in tests/patch_test.cc).
   {
     const auto uniform = create_discretization<2>("iga", half_disk(2), 2);
     const auto local   = create_discretization<2>("iga", half_disk(2, 2), 2);
@@ -352,7 +210,6 @@ main()
                 0.05);
   }
   check_mass(multipatch(half_disk(2, 2), 2));
-  patch_test("locally refined half disk", multipatch(half_disk(1, 2), 3));
 
   check_interface();
   return isoimpact_tests::report();
