@@ -31,6 +31,55 @@ using namespace isoimpact;
 
 namespace
 {
+  // The largest differences between FE_NURBS and FE_Bernstein at the points
+  // of a cell or face: values, gradients (relative to 1 / h), quadrature
+  // points and JxW.
+  struct Differences
+  {
+    double value = 0., gradient = 0., point = 0., jxw = 0.;
+  };
+
+  // Adds the differences at the points where `nurbs` and `bernstein` were
+  // last reinitialized (FEValues or FEFaceValues); Bernstein function h is
+  // NURBS function lexicographic[h].
+  template <typename FEValuesType>
+  void
+  accumulate(const FEValuesType              &nurbs,
+             const FEValuesType              &bernstein,
+             const std::vector<unsigned int> &lexicographic,
+             const double                     scale,
+             Differences                     &differences)
+  {
+    for (const unsigned int q : nurbs.quadrature_point_indices())
+      {
+        differences.point = std::max(differences.point,
+                                     nurbs.quadrature_point(q).distance(
+                                       bernstein.quadrature_point(q)));
+        differences.jxw =
+          std::max(differences.jxw, std::abs(nurbs.JxW(q) - bernstein.JxW(q)));
+        for (unsigned int h = 0; h < lexicographic.size(); ++h)
+          {
+            const unsigned int l = lexicographic[h];
+            differences.value    = std::max(differences.value,
+                                         std::abs(nurbs.shape_value(l, q) -
+                                                  bernstein.shape_value(h, q)));
+            differences.gradient = std::max(
+              differences.gradient,
+              (nurbs.shape_grad(l, q) - bernstein.shape_grad(h, q)).norm() /
+                scale);
+          }
+      }
+  }
+
+  void
+  check_zero(const Differences &differences)
+  {
+    CHECK_CLOSE_ABS(differences.value, 0., 1e-12);
+    CHECK_CLOSE_ABS(differences.gradient, 0., 1e-12);
+    CHECK_CLOSE_ABS(differences.point, 0., 1e-12);
+    CHECK_CLOSE_ABS(differences.jxw, 0., 1e-12);
+  }
+
   void
   compare(const unsigned int degree)
   {
@@ -75,29 +124,15 @@ namespace
       bernstein_values.reinit(cell);
       nurbs_system.reinit(dof_cell);
       bernstein_system_values.reinit(cell);
-      double value_error = 0., gradient_error = 0., point_error = 0.,
-             jxw_error = 0., system_error = 0.;
+      Differences cell_differences;
+      accumulate(nurbs_values,
+                 bernstein_values,
+                 lexicographic,
+                 scale,
+                 cell_differences);
+      double system_error = 0.;
       for (unsigned int q = 0; q < quadrature.size(); ++q)
         {
-          point_error = std::max(point_error,
-                                 nurbs_values.quadrature_point(q).distance(
-                                   bernstein_values.quadrature_point(q)));
-          jxw_error =
-            std::max(jxw_error,
-                     std::abs(nurbs_values.JxW(q) - bernstein_values.JxW(q)));
-          for (unsigned int h = 0; h < bernstein.n_dofs_per_cell(); ++h)
-            {
-              const unsigned int l = lexicographic[h];
-              value_error =
-                std::max(value_error,
-                         std::abs(nurbs_values.shape_value(l, q) -
-                                  bernstein_values.shape_value(h, q)));
-              gradient_error = std::max(gradient_error,
-                                        (nurbs_values.shape_grad(l, q) -
-                                         bernstein_values.shape_grad(h, q))
-                                            .norm() /
-                                          scale);
-            }
           // Vector elements: component c of system function i.
           for (unsigned int i = 0; i < bernstein_system.n_dofs_per_cell(); ++i)
             {
@@ -115,10 +150,7 @@ namespace
                     scale);
             }
         }
-      CHECK_CLOSE_ABS(value_error, 0., 1e-12);
-      CHECK_CLOSE_ABS(gradient_error, 0., 1e-12);
-      CHECK_CLOSE_ABS(point_error, 0., 1e-12);
-      CHECK_CLOSE_ABS(jxw_error, 0., 1e-12);
+      check_zero(cell_differences);
       CHECK_CLOSE_ABS(system_error, 0., 1e-12);
     }
 
@@ -133,43 +165,24 @@ namespace
                                    quadrature,
                                    flags);
       FEFaceValues<2> bernstein_values(mapping_q, bernstein, quadrature, flags);
-      double          value_error = 0., gradient_error = 0., point_error = 0.,
-             jxw_error = 0., normal_error = 0.;
+      Differences     face_differences;
+      double          normal_error = 0.;
       for (const unsigned int f : cell->face_indices())
         {
           nurbs_values.reinit(cell, f);
           bernstein_values.reinit(cell, f);
-          for (unsigned int q = 0; q < quadrature.size(); ++q)
-            {
-              point_error  = std::max(point_error,
-                                     nurbs_values.quadrature_point(q).distance(
-                                       bernstein_values.quadrature_point(q)));
-              jxw_error    = std::max(jxw_error,
-                                   std::abs(nurbs_values.JxW(q) -
-                                            bernstein_values.JxW(q)));
-              normal_error = std::max(normal_error,
-                                      (nurbs_values.normal_vector(q) -
-                                       bernstein_values.normal_vector(q))
-                                        .norm());
-              for (unsigned int h = 0; h < bernstein.n_dofs_per_cell(); ++h)
-                {
-                  const unsigned int l = lexicographic[h];
-                  value_error =
-                    std::max(value_error,
-                             std::abs(nurbs_values.shape_value(l, q) -
-                                      bernstein_values.shape_value(h, q)));
-                  gradient_error = std::max(gradient_error,
-                                            (nurbs_values.shape_grad(l, q) -
-                                             bernstein_values.shape_grad(h, q))
-                                                .norm() /
-                                              scale);
-                }
-            }
+          accumulate(nurbs_values,
+                     bernstein_values,
+                     lexicographic,
+                     scale,
+                     face_differences);
+          for (const unsigned int q : nurbs_values.quadrature_point_indices())
+            normal_error = std::max(normal_error,
+                                    (nurbs_values.normal_vector(q) -
+                                     bernstein_values.normal_vector(q))
+                                      .norm());
         }
-      CHECK_CLOSE_ABS(value_error, 0., 1e-12);
-      CHECK_CLOSE_ABS(gradient_error, 0., 1e-12);
-      CHECK_CLOSE_ABS(point_error, 0., 1e-12);
-      CHECK_CLOSE_ABS(jxw_error, 0., 1e-12);
+      check_zero(face_differences);
       CHECK_CLOSE_ABS(normal_error, 0., 1e-12);
     }
 
