@@ -28,6 +28,7 @@
 #include <isoimpact/mechanics/rigid_obstacle.h>
 
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -85,42 +86,34 @@ main()
 
   std::cout << "A. gap and normal of single points" << std::endl;
   {
-    Tensor<1, 2> n;
-    check_close("plane: g(1, -0.3)",
-                plane.gap(Point<2>(1., -0.3), n),
-                -0.3,
-                1e-14);
-    check_close("plane: |n - (0, 1)|",
-                (n - vec(0., 1.)).norm(),
-                0.,
-                1.,
-                1e-14,
-                true);
+    // The gap at x to 1e-14 relative and, if given, the normal to 1e-14.
+    const auto check_gap = [](const std::string      &name,
+                              const RigidObstacle<2> &obstacle,
+                              const Point<2>         &x,
+                              const double            expected_gap,
+                              const Tensor<1, 2>     *expected_normal) {
+      Tensor<1, 2>       n;
+      std::ostringstream at;
+      at << name << " at (" << x << ")";
+      check_close(at.str() + ": gap", obstacle.gap(x, n), expected_gap, 1e-14);
+      if (expected_normal)
+        check_close(at.str() + ": |n - n_expected|",
+                    (n - *expected_normal).norm(),
+                    0.,
+                    1.,
+                    1e-14,
+                    true);
+    };
+    const Tensor<1, 2> up = vec(0., 1.), diagonal = vec(0.6, 0.8);
     const auto tilted = RigidObstacle<2>::plane(Point<2>(1., 1.), vec(1., 1.));
-    check_close("tilted plane: g(0, 0)",
-                tilted.gap(Point<2>(0., 0.), n),
-                -std::sqrt(2.),
-                1e-14);
-    check_close("cylinder: g(0, -0.1)",
-                cylinder.gap(Point<2>(0., -0.1), n),
-                -0.1,
-                1e-14);
-    check_close("cylinder: |n - (0, 1)|",
-                (n - vec(0., 1.)).norm(),
-                0.,
-                1.,
-                1e-14,
-                true);
-    check_close("cylinder: g(3, 0)",
-                cylinder.gap(Point<2>(3., 0.), n),
-                1.,
-                1e-14);
-    check_close("cylinder: |n - (0.6, 0.8)|",
-                (n - vec(0.6, 0.8)).norm(),
-                0.,
-                1.,
-                1e-14,
-                true);
+    check_gap("plane", plane, Point<2>(1., -0.3), -0.3, &up);
+    check_gap("tilted plane",
+              tilted,
+              Point<2>(0., 0.),
+              -std::sqrt(2.),
+              nullptr);
+    check_gap("cylinder", cylinder, Point<2>(0., -0.1), -0.1, &up);
+    check_gap("cylinder", cylinder, Point<2>(3., 0.), 1., &diagonal);
   }
 
   std::cout << "B. a flat segment pressed g0 = 0.01 into the plane"
