@@ -11,12 +11,11 @@ Peaks are those of the force filtered over 10 ms (summary.json), since the
 raw penalty force chatters (doc/oscillation.md)."""
 import json
 import os
-import re
 import shutil
 import subprocess
 import sys
 
-from testing import check_close, check_true, report
+from testing import check_close, check_true, edit_prm, report
 
 program, source_dir, workdir = sys.argv[1], sys.argv[2], sys.argv[3]
 os.makedirs(workdir, exist_ok=True)
@@ -30,11 +29,8 @@ def prm_file(method, level):
 
 def run(method, level):
     name = f"{method}_level{level}"
-    text = open(prm_file(method, level)).read()
-    text = re.sub(r"(?m)^(\s*set Directory\s*=).*$", rf"\1 {name}", text)
-    text = re.sub(r"(?m)^(\s*set VTU interval\s*=).*$", r"\1 0", text)
-    prm = os.path.join(workdir, name + ".prm")
-    open(prm, "w").write(text)
+    prm = edit_prm(prm_file(method, level), os.path.join(workdir, name + ".prm"),
+                   {"Output/Directory": name, "Output/VTU interval": 0})
     shutil.rmtree(os.path.join(workdir, name), ignore_errors=True)
     result = subprocess.run([program, prm], cwd=workdir, capture_output=True, text=True)
     check_true(f"{name}: program exits with 0", result.returncode == 0)

@@ -49,7 +49,7 @@ import shutil
 import subprocess
 import sys
 
-from testing import check_close, check_true, report
+from testing import check_close, check_true, edit_prm, read_prm, report
 
 program, prm_two, prm_plane, prm_iga_two, workdir = sys.argv[1:6]
 os.makedirs(workdir, exist_ok=True)
@@ -74,14 +74,13 @@ def history(directory):
     return columns
 
 
-def variant(prm, name, old, new):
-    text = open(prm).read()
-    check_true(f"{name}: '{old}' found in {os.path.basename(prm)}", old in text)
-    text = text.replace(old, new)
-    directory = open(prm).read().split("set Directory")[1].split("=")[1].split()[0]
-    text = text.replace(directory, name)
-    path = os.path.join(workdir, name + ".prm")
-    open(path, "w").write(text)
+def variant(prm, name, edits):
+    """A copy of prm with the edits and its output directory named name."""
+    edits = {**edits, "Output/Directory": name}
+    path = edit_prm(prm, os.path.join(workdir, name + ".prm"), edits)
+    values = read_prm(path)
+    check_true(f"{name}: {edits} set in {os.path.basename(path)}",
+               all(values.get(key) == str(value) for key, value in edits.items()))
     return path
 
 
@@ -97,8 +96,7 @@ def deviation(a, b, scale):
 
 
 two_dir = run(prm_two, "hertz_fea_hrz_coarse")
-perturbed_dir = run(variant(prm_two, "two_bodies_perturbed", "set Penalty                    = 1e5",
-                            "set Penalty                    = 1.000001e5"),
+perturbed_dir = run(variant(prm_two, "two_bodies_perturbed", {"Contact/Penalty": "1.000001e5"}),
                     "two_bodies_perturbed")
 plane_dir = run(prm_plane, "hertz_fea_hrz_rigid_plane_coarse")
 two, perturbed, plane = history(two_dir), history(perturbed_dir), history(plane_dir)
@@ -160,12 +158,10 @@ print(f"cost: two bodies {s_two['unknowns']} unknowns, {s_two['steps']} steps, "
 
 # The same reduction with NURBS: the obstacle sees IGA boundary spans
 # through the same segments.
-# (variant() with an unchanged line: only the output directory is renamed.)
-iga_two_dir = run(variant(prm_iga_two, "iga_two_bodies", "set Method", "set Method"),
-                  "iga_two_bodies")
-iga_plane_prm = variant(prm_iga_two, "iga_rigid_plane", "subsection Time integration",
-                        "subsection Obstacle\n  set Type    = plane\n  set Penalty = 2e5\nend\n\n"
-                        "subsection Time integration")
+# (variant() without edits: only the output directory is renamed.)
+iga_two_dir = run(variant(prm_iga_two, "iga_two_bodies", {}), "iga_two_bodies")
+iga_plane_prm = variant(prm_iga_two, "iga_rigid_plane",
+                        {"Obstacle/Type": "plane", "Obstacle/Penalty": "2e5"})
 iga_plane_dir = run(iga_plane_prm, "iga_rigid_plane")
 h_two, h_plane = history(iga_two_dir), history(iga_plane_dir)
 time = h_two["time"]
@@ -180,8 +176,9 @@ print("IGA: 50-ms-filtered peaks: two bodies %.2f, plane %.2f N/m" % (
     max(filtered(f_two, dt, 0.05)), max(filtered(f_plane, dt, 0.05))))
 
 # The same body against a rigid cylinder of its own radius.
-prm_cylinder = variant(prm_plane, "hertz_fea_hrz_rigid_cylinder_coarse", "set Type    = plane",
-                       "set Type    = cylinder\n  set Center  = 0, -4\n  set Radius  = 4")
+prm_cylinder = variant(prm_plane, "hertz_fea_hrz_rigid_cylinder_coarse",
+                       {"Obstacle/Type": "cylinder", "Obstacle/Center": "0, -4",
+                        "Obstacle/Radius": "4"})
 cylinder_dir = run(prm_cylinder, "hertz_fea_hrz_rigid_cylinder_coarse")
 s_cyl = json.load(open(os.path.join(cylinder_dir, "summary.json")))
 print("rigid cylinder: filtered peak %.2f N/m (analytic %.2f), duration %.4f s (analytic %.4f)" % (
