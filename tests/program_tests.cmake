@@ -45,27 +45,30 @@ add_test(NAME hertz_study_figures
     ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_rowsum_coarse.prm)
 set_tests_properties(hertz_study_figures PROPERTIES TIMEOUT 600)
 
-# A user's program built against the exported package, as a user would.
-add_test(NAME example_builds_against_library
-  COMMAND ${CMAKE_CTEST_COMMAND}
-    --build-and-test ${CMAKE_SOURCE_DIR}/examples/elastic_wave
-                     ${CMAKE_CURRENT_BINARY_DIR}/example_elastic_wave
-    --build-generator ${CMAKE_GENERATOR}
-    --build-options -Disoimpact_DIR=${CMAKE_BINARY_DIR}
-                    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
-    --test-command elastic_wave)
-set_tests_properties(example_builds_against_library PROPERTIES TIMEOUT 900)
+# Users' programs (examples/<name>) built against the exported package, as a
+# user would, and run; each exits non-zero on a failed assertion.
+function(isoimpact_add_example_test test_name example)
+  add_test(NAME ${test_name}
+    COMMAND ${CMAKE_CTEST_COMMAND}
+      --build-and-test ${CMAKE_SOURCE_DIR}/examples/${example}
+                       ${CMAKE_CURRENT_BINARY_DIR}/example_${example}
+      --build-generator ${CMAKE_GENERATOR}
+      --build-options -Disoimpact_DIR=${CMAKE_BINARY_DIR}
+                      -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
+      --test-command ${example})
+  set_tests_properties(${test_name} PROPERTIES TIMEOUT 900)
+endfunction()
 
-# The isogeometric example (FE_NURBS on a quarter annulus), likewise.
-add_test(NAME example_nurbs_builds_against_library
-  COMMAND ${CMAKE_CTEST_COMMAND}
-    --build-and-test ${CMAKE_SOURCE_DIR}/examples/nurbs_quarter_annulus
-                     ${CMAKE_CURRENT_BINARY_DIR}/example_nurbs_quarter_annulus
-    --build-generator ${CMAKE_GENERATOR}
-    --build-options -Disoimpact_DIR=${CMAKE_BINARY_DIR}
-                    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
-    --test-command nurbs_quarter_annulus)
-set_tests_properties(example_nurbs_builds_against_library PROPERTIES TIMEOUT 900)
+# A standing elastic wave (FE_Q(2)): energy drift.
+isoimpact_add_example_test(example_builds_against_library elastic_wave)
+# FE_NURBS on a quarter annulus: L2 error.
+isoimpact_add_example_test(example_nurbs_builds_against_library
+  nurbs_quarter_annulus)
+# The isogeometric impact (two NURBS half cylinders, two-pass penalty
+# contact, central differences): the contact duration against the analytic
+# Hertz impact to 2 %.
+isoimpact_add_example_test(example_nurbs_impact_builds_against_library
+  nurbs_impact)
 
 # Scene reduction: one half cylinder against the rigid plane y = 0 against
 # the two-body run (same mesh, mass, time step; FEA and IGA), and against a
@@ -109,16 +112,3 @@ add_test(NAME layering
 add_test(NAME layering_check_can_fail
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/check_layering.py --self-test
     ${CMAKE_SOURCE_DIR})
-
-# The isogeometric impact example (two NURBS half cylinders, two-pass penalty
-# contact, central differences), likewise; it asserts the contact duration
-# against the analytic Hertz impact to 2 %.
-add_test(NAME example_nurbs_impact_builds_against_library
-  COMMAND ${CMAKE_CTEST_COMMAND}
-    --build-and-test ${CMAKE_SOURCE_DIR}/examples/nurbs_impact
-                     ${CMAKE_CURRENT_BINARY_DIR}/example_nurbs_impact
-    --build-generator ${CMAKE_GENERATOR}
-    --build-options -Disoimpact_DIR=${CMAKE_BINARY_DIR}
-                    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
-    --test-command nurbs_impact)
-set_tests_properties(example_nurbs_impact_builds_against_library PROPERTIES TIMEOUT 900)
