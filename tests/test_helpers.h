@@ -119,8 +119,8 @@ namespace isoimpact_tests
    * 3. strain, stress (of ElasticMaterial) and value at the points of
    *    QGauss(3), QGauss(4) and (options.at_vertices) a 4 x 4 grid that
    *    includes the vertices of each cell, evaluated with FEValues on the
-   * DoFHandler vector (to_dof_handler_vector), equal sym(A), sigma(A) and A x +
-   * b, relative to |eps|, |sigma| (values absolute).
+   *    DoFHandler vector (to_dof_handler_vector), equal sym(A), sigma(A)
+   *    and A x + b, relative to |eps| and |sigma| (values absolute).
    */
   inline void
   check_patch_test(const std::string                            &name,
