@@ -1,4 +1,4 @@
-// Layer 4 (mechanics): the analytic quasi-static Hertz reference for the
+// Layer 6 (scene): the analytic quasi-static Hertz reference for the
 // dynamic impact of two elastic cylinders (plane strain, per unit thickness),
 // see doc/hertz-reference.md. All quantities in SI units per unit thickness.
 #ifndef isoimpact_hertz_reference_h
