@@ -42,7 +42,8 @@
 //
 // deal.II's utilities for timing and parallel-ready output streams, and the
 // library's layers: the scene (layer 6) pulls in the time integrator (5),
-// the mechanics (4) and the discretisations (3).
+// the mechanics (4) and the discretisations (3); the output files and the
+// run summary are in layer 6 too.
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>
 
@@ -323,7 +324,7 @@ namespace isoimpact
         if (step % progress_every == 0 || step == n_steps)
           print_progress();
       }
-    history.reset();
+    history.reset(); // closes history.csv
 
     // summary.json holds the figures a user compares between runs: peaks,
     // duration, their errors against the analytic reference, cost and the
