@@ -44,6 +44,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import isoimpact_results  # noqa: E402
 import oscillation  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -94,21 +95,6 @@ def run_all(program, prms, root, jobs):
 
 # ---------------------------------------------------------------------------
 # Reading
-def read_history(path):
-    """history.csv as a dict of numpy arrays (comment lines skipped)."""
-    rows = [l for l in open(path) if l.strip() and not l.startswith("#")]
-    names = rows[0].strip().split(",")
-    data = np.array([[float(v) for v in r.split(",")] for r in rows[1:]])
-    return {name: data[:, i] for i, name in enumerate(names)}
-
-
-def read_profile(path):
-    rows = [l for l in open(path) if l.strip() and not l.startswith("#")]
-    names = rows[0].strip().split(",")
-    data = np.array([[float(v) for v in r.split(",")] for r in rows[1:]]).reshape(-1, len(names))
-    return {name: data[:, i] for i, name in enumerate(names)}
-
-
 def profile_time(path):
     """The time a profile was written: its first comment line ('... at t = X
     s'), else the number in its name."""
@@ -129,7 +115,7 @@ class Run:
         self.prm, self.directory = prm, directory
         self.name = os.path.splitext(os.path.basename(prm))[0]
         self.summary = json.load(open(os.path.join(directory, "summary.json")))
-        self.history = read_history(os.path.join(directory, "history.csv"))
+        self.history = isoimpact_results.read_history(directory)
         method = prm_value(os.path.join(directory, "parameters.prm"), "Method") or \
             prm_value(prm, "Method")
         self.method = method.upper()
@@ -157,8 +143,8 @@ class Run:
         }
 
     def smooth(self, column, window_s):
-        return oscillation.moving_average(
-            self.history[column], oscillation.window_width(window_s, self.dt))
+        return isoimpact_results.moving_average(
+            self.history[column], isoimpact_results.window_width(window_s, self.dt))
 
 
 # ---------------------------------------------------------------------------
@@ -229,7 +215,7 @@ def profile_figure(runs, path):
             continue
         chosen = min(files, key=lambda f: abs(profile_time(f) - t_peak))
         t = profile_time(chosen)
-        p = read_profile(chosen)
+        p = isoimpact_results.read_columns(chosen)
         h = run.history
         force = float(np.interp(t, h["time"], h["analytic_contact_force"]))
         p0 = float(np.interp(t, h["time"], h["analytic_max_contact_pressure"]))

@@ -7,36 +7,24 @@ and the analytic peak r_max:
 - total deviation:  RMS over the contact interval of (s - r), over r_max;
 - chatter:          RMS over the contact interval of (s - MA_w[s]), over
                     r_max, with MA_w the centred moving average over a window
-                    of w seconds (the filter of the program's filtered peaks,
-                    source/isoimpact.cc, truncated at the ends of the record).
+                    of w seconds (isoimpact_results.moving_average, the
+                    filter of the program's filtered peaks, cut at the ends
+                    of the record).
 
 The contact interval runs from the first to the last sample at which the
 signal or the reference is positive. Both measures are dimensionless
 fractions of the analytic peak.
 """
+import os
+import sys
+
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from isoimpact_results import moving_average, window_width  # noqa: E402
 
 # The program's default Output/Filter window [s].
 DEFAULT_WINDOW_S = 0.01
-
-
-def window_width(window_s, dt):
-    """The program's window width in samples: max(1, round(window / dt));
-    the average then spans 2 * (width // 2) + 1 samples."""
-    return max(1, int(round(window_s / dt)))
-
-
-def moving_average(signal, width):
-    """Centred moving average over 2 * (width // 2) + 1 samples, the window
-    truncated (and the mean taken over the samples present) at the ends, as
-    filtered_peak() in source/isoimpact.cc."""
-    signal = np.asarray(signal, dtype=float)
-    n, half = len(signal), width // 2
-    cumulative = np.concatenate(([0.0], np.cumsum(signal)))
-    index = np.arange(n)
-    lo = np.maximum(0, index - half)
-    hi = np.minimum(n, index + half + 1)
-    return (cumulative[hi] - cumulative[lo]) / (hi - lo)
 
 
 def time_step(time):

@@ -42,21 +42,21 @@
 //
 // deal.II's utilities for timing and parallel-ready output streams, and the
 // library's layers: the scene (layer 6) pulls in the time integrator (5),
-// the mechanics (4) and the discretisations (3).
+// the mechanics (4) and the discretisations (3); the output files and the
+// run summary are in layer 6 too.
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>
 
 #include <isoimpact/scene/output.h>
 #include <isoimpact/scene/parameters.h>
+#include <isoimpact/scene/run_summary.h>
 #include <isoimpact/scene/scene.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <sstream>
 
 using namespace dealii;
 
@@ -66,7 +66,8 @@ namespace isoimpact
   //
   // As in step-48, the class holds the pieces of one explicit dynamics run:
   // the scene (bodies, contact, reference), the time integrator, and the
-  // output. Peak values for the summary are collected along the way.
+  // output. The figures for the summary are collected along the way by a
+  // RunSummary.
   class ImpactProgram
   {
   public:
@@ -82,14 +83,10 @@ namespace isoimpact
     open_output();
     void
     record(const bool write_solution, const bool write_profile);
-    void
-    write_pressure_profile();
     std::string
     unstable_message() const;
     void
     print_progress();
-    void
-    write_summary();
 
     const Parameters  parameters;
     const std::string parameter_file;
@@ -100,26 +97,12 @@ namespace isoimpact
     Scene                                 scene;
     std::unique_ptr<CentralDifference<2>> integrator;
     std::unique_ptr<SolutionWriter>       solution_writer;
-    std::ofstream                         history;
+    std::unique_ptr<HistoryWriter>        history;
+    RunSummary                            summary;
     double                                critical_time_step = 0.;
     unsigned int                          n_steps            = 0;
     unsigned int                          next_profile       = 0;
-
-    // Running figures for the summary.
-    double initial_energy       = 0.;
-    double max_energy_error     = 0.;
-    double peak_force           = 0.;
-    double time_of_peak         = 0.;
-    double peak_pressure        = 0.;
-    double first_contact        = -1.;
-    double last_contact         = -1.;
-    double current_force        = 0.;
-    double current_pressure     = 0.;
-    double current_energy_error = 0.;
-    Timer  wall_clock;
-    // Every step's contact force and maximal pressure, for the filtered
-    // peaks of the summary.
-    std::vector<double> force_history, pressure_history;
+    Timer                                 wall_clock;
   };
 
 
@@ -136,6 +119,7 @@ namespace isoimpact
     , parameter_file(parameter_file)
     , pcout(std::cout, true)
     , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
+    , summary(parameters.time_step, parameters.filter_window)
   {}
 
 
@@ -188,29 +172,10 @@ namespace isoimpact
       std::filesystem::copy_options::overwrite_existing);
     solution_writer =
       std::make_unique<SolutionWriter>(directory, parameters.vtu_subdivisions);
-
-    history.open(directory + "/history.csv");
-    history << "# isoimpact history of " << parameter_file << "\n"
-            << "# units: time [s], contact_force [N/m] (resultant on body 1 "
-               "along the line of impact, per unit thickness, full bodies), "
-               "max_contact_pressure [Pa], energies [J/m] (per unit "
-               "thickness, full bodies), analytic columns: quasi-static "
-               "Hertz impact ("
-            << parameters.approach_law << ")\n";
-    if (parameters.obstacle.active())
-      history << "# scene: body 1 against a "
-              << scene.contacts[0]->description()
-              << "; energies are those of body 1 (the obstacle stores "
-                 "none)\n";
-    if (scene.symmetry_factor != 1.)
-      history << "# the model is a half by symmetry: contact_force and "
-                 "energies are those of the model times "
-              << scene.symmetry_factor << "\n";
-    history << "time,contact_force,max_contact_pressure,kinetic_energy,"
-               "strain_energy,contact_energy,total_energy";
-    if (scene.reference)
-      history << ",analytic_contact_force,analytic_max_contact_pressure";
-    history << '\n' << std::setprecision(10);
+    history = std::make_unique<HistoryWriter>(directory + "/history.csv",
+                                              parameter_file,
+                                              parameters,
+                                              scene);
   }
 
 
@@ -220,71 +185,53 @@ namespace isoimpact
   // The contact force is the resultant of the contact tractions on body 1,
   // projected on the line of impact; with a half model it is doubled to give
   // the force between the full cylinders, as the analytic reference does.
-  // A non-finite energy means that the explicit scheme became unstable: the
-  // run stops with an error rather than printing NaN.
+  // Every step goes into the summary; the energy balance costs two
+  // matrix-vector products and is computed only at history steps. A
+  // non-finite force or energy means that the explicit scheme became
+  // unstable: the run stops with an error rather than printing NaN.
   void
   ImpactProgram::record(const bool write_solution, const bool write_profile)
   {
-    const double t      = integrator->time();
-    const auto  &result = integrator->contact_results()[0];
-    const double factor = scene.symmetry_factor;
-
+    const auto &result = integrator->contact_results()[0];
     AssertThrow(std::isfinite(result.force_on_first_surface.norm()),
                 ExcMessage(unstable_message()));
-    current_force =
-      factor * (result.force_on_first_surface * scene.impact_direction);
-    current_pressure = result.max_pressure;
-    if (current_force > peak_force)
-      {
-        peak_force   = current_force;
-        time_of_peak = t;
-      }
-    peak_pressure = std::max(peak_pressure, current_pressure);
-    force_history.push_back(current_force);
-    pressure_history.push_back(current_pressure);
-    if (result.n_active_points > 0)
-      {
-        if (first_contact < 0.)
-          first_contact = t;
-        last_contact = t;
-      }
+    StepRecord step;
+    step.time = integrator->time();
+    step.contact_force =
+      scene.symmetry_factor *
+      (result.force_on_first_surface * scene.impact_direction);
+    step.max_pressure = result.max_pressure;
+    step.in_contact   = result.n_active_points > 0;
 
     if (integrator->step_number() % parameters.history_interval == 0)
       {
-        // The energy balance costs two matrix-vector products: only at
-        // history steps.
         const EnergyBalance energy = integrator->energy_balance();
-        const double        total  = factor * energy.total();
-        AssertThrow(std::isfinite(total), ExcMessage(unstable_message()));
-        if (integrator->step_number() == 0)
-          initial_energy = total;
-        current_energy_error =
-          std::abs(total - initial_energy) / initial_energy;
-        max_energy_error = std::max(max_energy_error, current_energy_error);
-
-        history << t << ',' << current_force << ',' << current_pressure << ','
-                << factor * energy.kinetic << ',' << factor * energy.strain
-                << ',' << factor * energy.contact << ',' << total;
-        if (scene.reference)
-          history << ',' << scene.reference->contact_force(t) << ','
-                  << scene.reference->max_contact_pressure(t);
-        history << '\n';
+        step.total_energy          = scene.symmetry_factor * energy.total();
+        AssertThrow(std::isfinite(*step.total_energy),
+                    ExcMessage(unstable_message()));
+        history->write(step.time,
+                       step.contact_force,
+                       step.max_pressure,
+                       energy);
       }
+    summary.add_step(step);
 
     if (write_solution)
       {
         TimerOutput::Scope scope(timer, "output: ParaView");
-        solution_writer->write(scene.body_pointers(), t);
+        solution_writer->write(scene.body_pointers(), step.time);
       }
+    // The pressure along the contact surface at a requested time.
     if (write_profile)
-      write_pressure_profile();
+      write_pressure_profile(parameters.output_directory,
+                             step.time,
+                             result.points,
+                             scene.impact_direction,
+                             scene.reference.get());
   }
 
 
 
-  // The pressure along the contact surface at a requested time: one row per
-  // Gauss point in contact, with its position across the line of impact and
-  // the Hertz profile of the analytic force at that time.
   std::string
   ImpactProgram::unstable_message() const
   {
@@ -300,43 +247,6 @@ namespace isoimpact
 
 
   void
-  ImpactProgram::write_pressure_profile()
-  {
-    const double t      = integrator->time();
-    auto         points = integrator->contact_results()[0].points;
-    Tensor<1, 2> across;
-    across[0] = scene.impact_direction[1];
-    across[1] = -scene.impact_direction[0];
-    std::sort(points.begin(), points.end(), [&](const auto &a, const auto &b) {
-      return a.reference_position * across < b.reference_position * across;
-    });
-
-    std::ostringstream name;
-    name << parameters.output_directory << "/contact_pressure_t" << std::fixed
-         << std::setprecision(4) << t << ".csv";
-    std::ofstream out(name.str());
-    out << "# contact pressure along the contact surface at t = " << t
-        << " s\n# units: position [m] (reference position across the line "
-           "of impact), pressure [Pa]; surface: 1 or 2 (the body whose "
-           "Gauss point it is)\nposition,pressure,surface";
-    const double force =
-      scene.reference ? scene.reference->contact_force(t) : 0.;
-    if (scene.reference)
-      out << ",analytic_pressure";
-    out << '\n' << std::setprecision(10);
-    for (const auto &point : points)
-      {
-        const double s = point.reference_position * across;
-        out << s << ',' << point.pressure << ',' << point.slave_surface + 1;
-        if (scene.reference)
-          out << ',' << scene.reference->pressure(force, s);
-        out << '\n';
-      }
-  }
-
-
-
-  void
   ImpactProgram::print_progress()
   {
     const double elapsed = wall_clock.wall_time();
@@ -344,159 +254,12 @@ namespace isoimpact
     pcout << "  step " << std::setw(6) << integrator->step_number() << "/"
           << n_steps << "  t = " << std::fixed << std::setprecision(4)
           << integrator->time() << " s  contact force = " << std::setw(9)
-          << std::setprecision(2) << current_force
+          << std::setprecision(2) << summary.current_force()
           << " N/m  energy error = " << std::setprecision(3)
-          << 100. * current_energy_error << " %  elapsed "
+          << 100. * summary.current_energy_error() << " %  elapsed "
           << std::setprecision(1) << elapsed << " s, left ~"
           << elapsed * (1. - done) / std::max(done, 1e-12) << " s"
           << std::defaultfloat << std::setprecision(6) << std::endl;
-  }
-
-
-
-  // @sect3{The summary}
-  //
-  // summary.json holds the figures a user compares between runs: peaks,
-  // duration, their errors against the analytic reference, cost and the
-  // energy error. It is written last, to a temporary file renamed at the
-  // end, so a run that fails leaves no summary.
-  //
-  // Penalty contact in explicit dynamics chatters: the raw force and, more
-  // so, the pointwise maximal pressure carry oscillations at the period of a
-  // few steps. As crash codes do with their contact force output, the summary
-  // also gives peaks of the signals filtered with a centred moving average
-  // over a fixed physical window (Output/Filter window). A filtered peak
-  // finds the index of its maximum too.
-  namespace
-  {
-    std::pair<double, unsigned int>
-    filtered_peak(const std::vector<double> &signal, const unsigned int width)
-    {
-      const int half = width / 2, n = signal.size();
-      double    best       = 0.;
-      unsigned  best_index = 0;
-      for (int i = 0; i < n; ++i)
-        {
-          double sum   = 0.;
-          int    count = 0;
-          for (int j = std::max(0, i - half); j <= std::min(n - 1, i + half);
-               ++j)
-            sum += signal[j], ++count;
-          if (sum / count > best)
-            best = sum / count, best_index = i;
-        }
-      return {best, best_index};
-    }
-  } // namespace
-
-  void
-  ImpactProgram::write_summary()
-  {
-    const double duration =
-      (first_contact >= 0.) ? last_contact - first_contact : 0.;
-    const unsigned int width =
-      std::max(1u,
-               static_cast<unsigned int>(
-                 std::round(parameters.filter_window / parameters.time_step)));
-    const auto   filtered_force    = filtered_peak(force_history, width);
-    const auto   filtered_pressure = filtered_peak(pressure_history, width);
-    const double filtered_time = filtered_force.second * parameters.time_step;
-    const std::string path     = parameters.output_directory + "/summary.json";
-    {
-      std::ofstream out(path + ".tmp");
-      out << std::setprecision(10) << "{\n"
-          << "  \"parameter_file\": \"" << parameter_file << "\",\n"
-          << "  \"discretization\": \""
-          << scene.bodies[0]->discretization().name() << "\",\n"
-          << "  \"mass_matrix\": \"" << to_string(parameters.mass_scheme)
-          << "\",\n"
-          << "  \"unknowns\": " << scene.n_dofs() << ",\n"
-          << "  \"cells\": [";
-      for (unsigned int b = 0; b < scene.bodies.size(); ++b)
-        out << (b ? ", " : "")
-            << scene.bodies[b]
-                 ->discretization()
-                 .get_triangulation()
-                 .n_active_cells();
-      out << "],\n"
-          << "  \"vtu_subdivisions\": " << parameters.vtu_subdivisions << ",\n"
-          << "  \"time_step_s\": " << parameters.time_step << ",\n"
-          << "  \"critical_time_step_estimate_s\": " << critical_time_step
-          << ",\n"
-          << "  \"steps\": " << integrator->step_number() << ",\n"
-          << "  \"wall_time_s\": " << wall_clock.wall_time() << ",\n"
-          << "  \"symmetry_factor\": " << scene.symmetry_factor << ",\n"
-          << "  \"obstacle\": \"" << parameters.obstacle.type << "\",\n"
-          << "  \"peak_contact_force_N_per_m\": " << peak_force << ",\n"
-          << "  \"time_of_peak_force_s\": " << time_of_peak << ",\n"
-          << "  \"contact_duration_s\": " << duration << ",\n"
-          << "  \"peak_contact_pressure_Pa\": " << peak_pressure << ",\n"
-          << "  \"filter_window_s\": " << width * parameters.time_step << ",\n"
-          << "  \"filtered_peak_contact_force_N_per_m\": "
-          << filtered_force.first << ",\n"
-          << "  \"time_of_filtered_peak_force_s\": " << filtered_time << ",\n"
-          << "  \"filtered_peak_contact_pressure_Pa\": "
-          << filtered_pressure.first << ",\n"
-          << "  \"max_energy_error\": " << max_energy_error;
-      // The displacement of each body's first unknown pair at the end: a
-      // probe that the output tests compare with the ParaView files.
-      out << ",\n  \"final_displacement_probe\": [";
-      for (unsigned int b = 0; b < scene.bodies.size(); ++b)
-        {
-          const auto &body = *scene.bodies[b];
-          const auto &disc = body.discretization();
-          // The unknowns of component 0 and 1 at the same node.
-          types::global_dof_index ix = 0, iy = 0;
-          for (types::global_dof_index i = 0; i < body.n_dofs(); ++i)
-            if (disc.dof_component(i) == 1)
-              {
-                iy = i;
-                break;
-              }
-          for (types::global_dof_index i = 0; i < body.n_dofs(); ++i)
-            if (disc.dof_component(i) == 0 &&
-                disc.dof_position(i).distance(disc.dof_position(iy)) < 1e-12)
-              {
-                ix = i;
-                break;
-              }
-          const Point<2> p = disc.dof_position(iy);
-          out << (b ? ", " : "") << "{\"body\": \"" << body.name()
-              << "\", \"x_m\": " << p[0] << ", \"y_m\": " << p[1]
-              << ", \"ux_m\": " << body.displacement(ix)
-              << ", \"uy_m\": " << body.displacement(iy) << "}";
-        }
-      out << "]";
-      if (scene.reference)
-        {
-          const auto &ref = *scene.reference;
-          const auto  rel = [](const double value, const double reference) {
-            return (value - reference) / reference;
-          };
-          out << ",\n  \"analytic\": {\"approach_law\": \""
-              << parameters.approach_law
-              << "\", \"peak_contact_force_N_per_m\": " << ref.peak_force()
-              << ", \"time_of_peak_force_s\": " << ref.time_of_peak()
-              << ", \"contact_duration_s\": " << ref.contact_duration()
-              << ", \"peak_contact_pressure_Pa\": " << ref.peak_pressure()
-              << "},\n  \"relative_error\": {\"peak_contact_force\": "
-              << rel(peak_force, ref.peak_force())
-              << ", \"time_of_peak_force\": "
-              << rel(time_of_peak, ref.time_of_peak())
-              << ", \"contact_duration\": "
-              << rel(duration, ref.contact_duration())
-              << ", \"peak_contact_pressure\": "
-              << rel(peak_pressure, ref.peak_pressure())
-              << ", \"filtered_peak_contact_force\": "
-              << rel(filtered_force.first, ref.peak_force())
-              << ", \"time_of_filtered_peak_force\": "
-              << rel(filtered_time, ref.time_of_peak())
-              << ", \"filtered_peak_contact_pressure\": "
-              << rel(filtered_pressure.first, ref.peak_pressure()) << "}";
-        }
-      out << "\n}\n";
-    }
-    std::filesystem::rename(path + ".tmp", path);
   }
 
 
@@ -561,15 +324,29 @@ namespace isoimpact
         if (step % progress_every == 0 || step == n_steps)
           print_progress();
       }
-    history.close();
-    write_summary();
+    history.reset(); // closes history.csv
 
-    pcout << "  peak contact force " << peak_force
-          << " N/m at t = " << time_of_peak << " s";
+    // summary.json holds the figures a user compares between runs: peaks,
+    // duration, their errors against the analytic reference, cost and the
+    // energy error. Penalty contact chatters, so it also gives the peaks of
+    // the force and pressure filtered with a centred moving average over
+    // Output/Filter window. It is written last, so a run that fails leaves
+    // no summary.
+    summary.write_json(parameters.output_directory + "/summary.json",
+                       parameters,
+                       parameter_file,
+                       scene,
+                       critical_time_step,
+                       integrator->step_number(),
+                       wall_clock.wall_time());
+
+    pcout << "  peak contact force " << summary.peak_force()
+          << " N/m at t = " << summary.time_of_peak_force() << " s";
     if (scene.reference)
       pcout << " (analytic " << scene.reference->peak_force() << " N/m at "
             << scene.reference->time_of_peak() << " s)";
-    pcout << "\n  max energy error " << 100. * max_energy_error << " %\n"
+    pcout << "\n  max energy error " << 100. * summary.max_energy_error()
+          << " %\n"
           << "  results: " << parameters.output_directory
           << "/{history.csv,summary.json,solution.pvd,contact_pressure_*.csv}"
           << std::endl;

@@ -24,6 +24,14 @@ add_test(NAME vtu_readback
     ${_work}/hertz_fea_hrz_coarse)
 set_tests_properties(vtu_readback PROPERTIES FIXTURES_REQUIRED hertz_output)
 
+# The filtered peaks of summary.json against the Python filter applied to
+# history.csv (the fixture's run writes every step: History interval = 1).
+add_test(NAME filtered_peak_summary_vs_history
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/filtered_peak.py
+    ${_work}/hertz_fea_hrz_coarse)
+set_tests_properties(filtered_peak_summary_vs_history PROPERTIES
+  FIXTURES_REQUIRED hertz_output)
+
 add_test(NAME bad_input
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/bad_input.py
     $<TARGET_FILE:isoimpact_program>

@@ -1,10 +1,13 @@
-// Layer 6: ParaView output.
+// Layer 6: ParaView output, history and pressure profiles.
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
 #include <isoimpact/scene/output.h>
 
+#include <algorithm>
 #include <fstream>
+#include <iomanip>
+#include <sstream>
 
 using namespace dealii;
 
@@ -128,5 +131,91 @@ namespace isoimpact
     std::ofstream pvd(directory + "/solution.pvd");
     DataOutBase::write_pvd_record(pvd, times_and_names);
     return times_and_names.back().second;
+  }
+
+
+
+  HistoryWriter::HistoryWriter(const std::string &path,
+                               const std::string &parameter_file,
+                               const Parameters  &parameters,
+                               const Scene       &scene)
+    : scene(scene)
+    , out(path)
+  {
+    out << "# isoimpact history of " << parameter_file << "\n"
+        << "# units: time [s], contact_force [N/m] (resultant on body 1 "
+           "along the line of impact, per unit thickness, full bodies), "
+           "max_contact_pressure [Pa], energies [J/m] (per unit "
+           "thickness, full bodies), analytic columns: quasi-static "
+           "Hertz impact ("
+        << parameters.approach_law << ")\n";
+    if (parameters.obstacle.active())
+      out << "# scene: body 1 against a " << scene.contacts[0]->description()
+          << "; energies are those of body 1 (the obstacle stores none)\n";
+    if (scene.symmetry_factor != 1.)
+      out << "# the model is a half by symmetry: contact_force and "
+             "energies are those of the model times "
+          << scene.symmetry_factor << "\n";
+    out << "time,contact_force,max_contact_pressure,kinetic_energy,"
+           "strain_energy,contact_energy,total_energy";
+    if (scene.reference)
+      out << ",analytic_contact_force,analytic_max_contact_pressure";
+    out << '\n' << std::setprecision(10);
+  }
+
+
+
+  void
+  HistoryWriter::write(const double         time,
+                       const double         contact_force,
+                       const double         max_pressure,
+                       const EnergyBalance &energy)
+  {
+    const double factor = scene.symmetry_factor;
+    out << time << ',' << contact_force << ',' << max_pressure << ','
+        << factor * energy.kinetic << ',' << factor * energy.strain << ','
+        << factor * energy.contact << ',' << factor * energy.total();
+    if (scene.reference)
+      out << ',' << scene.reference->contact_force(time) << ','
+          << scene.reference->max_contact_pressure(time);
+    out << '\n';
+  }
+
+
+
+  void
+  write_pressure_profile(const std::string                &directory,
+                         const double                      time,
+                         std::vector<ContactPoint<2>>      points,
+                         const Tensor<1, 2>               &impact_direction,
+                         const HertzImpactReference *const reference)
+  {
+    Tensor<1, 2> across;
+    across[0] = impact_direction[1];
+    across[1] = -impact_direction[0];
+    std::sort(points.begin(), points.end(), [&](const auto &a, const auto &b) {
+      return a.reference_position * across < b.reference_position * across;
+    });
+
+    std::ostringstream name;
+    name << directory << "/contact_pressure_t" << std::fixed
+         << std::setprecision(4) << time << ".csv";
+    std::ofstream out(name.str());
+    out << "# contact pressure along the contact surface at t = " << time
+        << " s\n# units: position [m] (reference position across the line "
+           "of impact), pressure [Pa]; surface: 1 or 2 (the body whose "
+           "Gauss point it is)\nposition,pressure,surface";
+    const double force = reference ? reference->contact_force(time) : 0.;
+    if (reference)
+      out << ",analytic_pressure";
+    out << '\n' << std::setprecision(10);
+    for (const auto &point : points)
+      {
+        const double s = point.reference_position * across;
+        out << s << ',' << point.pressure << ',' << point.slave_surface + 1;
+        if (reference)
+          out << ',' << reference->pressure(force, s);
+        out << '\n';
+      }
   }
 } // namespace isoimpact

@@ -25,18 +25,19 @@ from testing import check_close, check_true, report
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)),
                                 "..", "..", "scripts"))
+import isoimpact_results  # noqa: E402
 import oscillation  # noqa: E402
 
 dt, peak, duration = 5e-4, 471.47, 0.749
 time = np.arange(0, 0.9 + dt / 2, dt)
 contact = time <= duration
 pulse = np.where(contact, peak * np.sin(math.pi * np.minimum(time, duration) / duration), 0.0)
-width = oscillation.window_width(0.01, dt)
+width = isoimpact_results.window_width(0.01, dt)
 samples = 2 * (width // 2) + 1
 check_true(f"10 ms at dt = 5e-4 s is a {samples}-sample window", samples == 21)
 
 # The moving average is the program's: truncated at the record's ends.
-ma = oscillation.moving_average(np.arange(5.0), 3)
+ma = isoimpact_results.moving_average(np.arange(5.0), 3)
 check_true(f"moving average of 0..4 over 3 samples: {ma}",
            np.allclose(ma, [0.5, 1, 2, 3, 3.5]))
 

@@ -51,6 +51,10 @@ import sys
 
 from testing import check_close, check_true, edit_prm, read_prm, report
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                "..", "..", "scripts"))
+from isoimpact_results import moving_average, read_history, window_width  # noqa: E402
+
 program, prm_two, prm_plane, prm_iga_two, workdir = sys.argv[1:6]
 os.makedirs(workdir, exist_ok=True)
 
@@ -64,16 +68,6 @@ def run(prm, name):
     return out
 
 
-def history(directory):
-    rows = [l for l in open(os.path.join(directory, "history.csv")) if not l.startswith("#")]
-    names = rows[0].strip().split(",")
-    columns = {n: [] for n in names}
-    for row in rows[1:]:
-        for n, v in zip(names, row.split(",")):
-            columns[n].append(float(v))
-    return columns
-
-
 def variant(prm, name, edits):
     """A copy of prm with the edits and its output directory named name."""
     edits = {**edits, "Output/Directory": name}
@@ -85,10 +79,7 @@ def variant(prm, name, edits):
 
 
 def filtered(f, dt, window):
-    half = int(round(window / dt)) // 2
-    n = len(f)
-    return [sum(f[max(0, i - half):min(n, i + half + 1)]) / (min(n, i + half + 1) - max(0, i - half))
-            for i in range(n)]
+    return moving_average(f, window_width(window, dt))
 
 
 def deviation(a, b, scale):
@@ -99,7 +90,7 @@ two_dir = run(prm_two, "hertz_fea_hrz_coarse")
 perturbed_dir = run(variant(prm_two, "two_bodies_perturbed", {"Contact/Penalty": "1.000001e5"}),
                     "two_bodies_perturbed")
 plane_dir = run(prm_plane, "hertz_fea_hrz_rigid_plane_coarse")
-two, perturbed, plane = history(two_dir), history(perturbed_dir), history(plane_dir)
+two, perturbed, plane = read_history(two_dir), read_history(perturbed_dir), read_history(plane_dir)
 s_two = json.load(open(os.path.join(two_dir, "summary.json")))
 s_plane = json.load(open(os.path.join(plane_dir, "summary.json")))
 
@@ -163,7 +154,7 @@ iga_two_dir = run(variant(prm_iga_two, "iga_two_bodies", {}), "iga_two_bodies")
 iga_plane_prm = variant(prm_iga_two, "iga_rigid_plane",
                         {"Obstacle/Type": "plane", "Obstacle/Penalty": "2e5"})
 iga_plane_dir = run(iga_plane_prm, "iga_rigid_plane")
-h_two, h_plane = history(iga_two_dir), history(iga_plane_dir)
+h_two, h_plane = read_history(iga_two_dir), read_history(iga_plane_dir)
 time = h_two["time"]
 f_two, f_plane = h_two["contact_force"], h_plane["contact_force"]
 early = [i for i, t in enumerate(time) if t <= 0.05 + 1e-12]

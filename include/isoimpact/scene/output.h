@@ -1,10 +1,15 @@
-// Layer 6: ParaView output of the bodies (VTU per body, PVTU per time,
-// one PVD for the run) with displacement, velocity and stresses.
+// Layer 6: the output files of a run: ParaView output of the bodies (VTU per
+// body, PVTU per time, one PVD for the run) with displacement, velocity and
+// stresses; the history of the contact force, pressure and energies; the
+// pressure profiles along the contact surface.
 #ifndef isoimpact_output_h
 #define isoimpact_output_h
 
 #include <isoimpact/mechanics/elastic_body.h>
+#include <isoimpact/scene/parameters.h>
+#include <isoimpact/scene/scene.h>
 
+#include <fstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,6 +33,46 @@ namespace isoimpact
     unsigned int                                counter = 0;
     std::vector<std::pair<double, std::string>> times_and_names;
   };
+
+  /**
+   * history.csv: a header that says the unit of every column, then one row
+   * per call of write(). Contact force and energies are those of the full
+   * bodies (the model's times the scene's symmetry factor); with an analytic
+   * reference, its force and maximal pressure follow.
+   */
+  class HistoryWriter
+  {
+  public:
+    HistoryWriter(const std::string &path,
+                  const std::string &parameter_file,
+                  const Parameters  &parameters,
+                  const Scene       &scene);
+
+    // The contact force and pressure as reported (full bodies); the
+    // energies of the model.
+    void
+    write(const double         time,
+          const double         contact_force,
+          const double         max_pressure,
+          const EnergyBalance &energy);
+
+  private:
+    const Scene  &scene;
+    std::ofstream out;
+  };
+
+  /**
+   * contact_pressure_t<time>.csv in the directory: one row per contact
+   * point, sorted by its reference position across the line of impact,
+   * with the body whose point it is and, with a reference, the Hertz
+   * profile of the analytic force at that time.
+   */
+  void
+  write_pressure_profile(const std::string                &directory,
+                         const double                      time,
+                         std::vector<ContactPoint<2>>      points,
+                         const dealii::Tensor<1, 2>       &impact_direction,
+                         const HertzImpactReference *const reference);
 } // namespace isoimpact
 
 #endif

@@ -1,0 +1,128 @@
+// Layer 6: the figures of one run that a user compares between runs (peaks,
+// filtered peaks, contact duration, energy error), collected step by step,
+// and summary.json.
+#ifndef isoimpact_run_summary_h
+#define isoimpact_run_summary_h
+
+#include <isoimpact/scene/parameters.h>
+#include <isoimpact/scene/scene.h>
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace isoimpact
+{
+  /**
+   * The centred moving average of a signal sampled at a uniform step:
+   * sample i of the result is the mean of the samples j with
+   * |j - i| <= width / 2 (integer division), so the window spans
+   * 2 (width / 2) + 1 samples. At the ends of the signal the window is cut
+   * and the mean is taken over the samples present. The sums run in
+   * increasing j, so the result is reproducible to the bit.
+   */
+  std::vector<double>
+  moving_average(const std::vector<double> &signal, const unsigned int width);
+
+  /**
+   * The width in samples of the moving average over a physical window:
+   * max(1, round(window / time_step)).
+   */
+  unsigned int
+  moving_average_width(const double window, const double time_step);
+
+  /**
+   * The largest positive value of a signal and the index of its first
+   * occurrence; (0, 0) if no value is positive.
+   */
+  std::pair<double, unsigned int>
+  positive_peak(const std::vector<double> &signal);
+
+  /**
+   * What one step contributes to the summary. The total energy is given
+   * only at the steps at which the energy balance is computed.
+   */
+  struct StepRecord
+  {
+    double                time          = 0.;
+    double                contact_force = 0.; // N/m
+    double                max_pressure  = 0.; // Pa
+    bool                  in_contact    = false;
+    std::optional<double> total_energy; // J/m
+  };
+
+  /**
+   * The running statistics of a run: raw and filtered peaks of the contact
+   * force and of the maximal contact pressure, first and last step in
+   * contact, and the energy error relative to the first energy given.
+   *
+   * Penalty contact in explicit dynamics chatters: the raw force and, more
+   * so, the pointwise maximal pressure carry oscillations at the period of a
+   * few steps. As crash codes do with their contact force output, the
+   * summary also gives peaks of the signals filtered with moving_average()
+   * over a fixed physical window.
+   */
+  class RunSummary
+  {
+  public:
+    RunSummary(const double time_step, const double filter_window);
+
+    void
+    add_step(const StepRecord &record);
+
+    double
+    peak_force() const;
+    double
+    time_of_peak_force() const;
+    double
+    peak_pressure() const;
+    // Last minus first time in contact; 0 without contact.
+    double
+    contact_duration() const;
+    double
+    current_force() const;
+    double
+    current_energy_error() const;
+    double
+    max_energy_error() const;
+    // The window of the filter actually used, a whole number of steps.
+    double
+    filter_window() const;
+    std::pair<double, unsigned int>
+    filtered_peak_force() const;
+    double
+    time_of_filtered_peak_force() const;
+    double
+    filtered_peak_pressure() const;
+
+    /**
+     * Writes summary.json for a run of the scene with the parameters:
+     * the set-up, the cost, these statistics, the final displacement of
+     * each body's first node and, if the scene has an analytic reference,
+     * its figures and the relative errors. The file is written to a
+     * temporary name and renamed, so a run that fails leaves no summary.
+     */
+    void
+    write_json(const std::string &path,
+               const Parameters  &parameters,
+               const std::string &parameter_file,
+               const Scene       &scene,
+               const double       critical_time_step,
+               const unsigned int n_steps,
+               const double       wall_time) const;
+
+  private:
+    double              time_step;
+    unsigned int        filter_width;
+    std::vector<double> times, forces, pressures;
+    double              first_contact        = -1.;
+    double              last_contact         = -1.;
+    double              initial_energy       = 0.;
+    bool                has_initial_energy   = false;
+    double              last_energy_error    = 0.;
+    double              largest_energy_error = 0.;
+  };
+} // namespace isoimpact
+
+#endif

@@ -1,0 +1,280 @@
+// Layer 6: the run summary and the moving-average filter.
+#include <isoimpact/scene/run_summary.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+using namespace dealii;
+
+namespace isoimpact
+{
+  std::vector<double>
+  moving_average(const std::vector<double> &signal, const unsigned int width)
+  {
+    const int           half = width / 2, n = signal.size();
+    std::vector<double> average(n);
+    for (int i = 0; i < n; ++i)
+      {
+        double sum   = 0.;
+        int    count = 0;
+        for (int j = std::max(0, i - half); j <= std::min(n - 1, i + half); ++j)
+          sum += signal[j], ++count;
+        average[i] = sum / count;
+      }
+    return average;
+  }
+
+
+
+  unsigned int
+  moving_average_width(const double window, const double time_step)
+  {
+    return std::max(1u,
+                    static_cast<unsigned int>(std::round(window / time_step)));
+  }
+
+
+
+  std::pair<double, unsigned int>
+  positive_peak(const std::vector<double> &signal)
+  {
+    std::pair<double, unsigned int> peak{0., 0};
+    for (unsigned int i = 0; i < signal.size(); ++i)
+      if (signal[i] > peak.first)
+        peak = {signal[i], i};
+    return peak;
+  }
+
+
+
+  RunSummary::RunSummary(const double time_step, const double filter_window)
+    : time_step(time_step)
+    , filter_width(moving_average_width(filter_window, time_step))
+  {}
+
+
+
+  void
+  RunSummary::add_step(const StepRecord &record)
+  {
+    times.push_back(record.time);
+    forces.push_back(record.contact_force);
+    pressures.push_back(record.max_pressure);
+    if (record.in_contact)
+      {
+        if (first_contact < 0.)
+          first_contact = record.time;
+        last_contact = record.time;
+      }
+    if (record.total_energy)
+      {
+        if (!has_initial_energy)
+          initial_energy = *record.total_energy, has_initial_energy = true;
+        last_energy_error =
+          std::abs(*record.total_energy - initial_energy) / initial_energy;
+        largest_energy_error =
+          std::max(largest_energy_error, last_energy_error);
+      }
+  }
+
+
+
+  double
+  RunSummary::peak_force() const
+  {
+    return positive_peak(forces).first;
+  }
+
+
+
+  double
+  RunSummary::time_of_peak_force() const
+  {
+    const auto peak = positive_peak(forces);
+    return peak.first > 0. ? times[peak.second] : 0.;
+  }
+
+
+
+  double
+  RunSummary::peak_pressure() const
+  {
+    return positive_peak(pressures).first;
+  }
+
+
+
+  double
+  RunSummary::contact_duration() const
+  {
+    return (first_contact >= 0.) ? last_contact - first_contact : 0.;
+  }
+
+
+
+  double
+  RunSummary::current_force() const
+  {
+    return forces.empty() ? 0. : forces.back();
+  }
+
+
+
+  double
+  RunSummary::current_energy_error() const
+  {
+    return last_energy_error;
+  }
+
+
+
+  double
+  RunSummary::max_energy_error() const
+  {
+    return largest_energy_error;
+  }
+
+
+
+  double
+  RunSummary::filter_window() const
+  {
+    return filter_width * time_step;
+  }
+
+
+
+  std::pair<double, unsigned int>
+  RunSummary::filtered_peak_force() const
+  {
+    return positive_peak(moving_average(forces, filter_width));
+  }
+
+
+
+  double
+  RunSummary::time_of_filtered_peak_force() const
+  {
+    return filtered_peak_force().second * time_step;
+  }
+
+
+
+  double
+  RunSummary::filtered_peak_pressure() const
+  {
+    return positive_peak(moving_average(pressures, filter_width)).first;
+  }
+
+
+
+  namespace
+  {
+    // The position and displacement of a body's first node (the first
+    // unknown of component 1 and the unknown of component 0 at the same
+    // place): a probe that the output tests compare with the ParaView files.
+    nlohmann::ordered_json
+    displacement_probe(const ElasticBody<2> &body)
+    {
+      const auto             &disc = body.discretization();
+      types::global_dof_index ix = 0, iy = 0;
+      for (types::global_dof_index i = 0; i < body.n_dofs(); ++i)
+        if (disc.dof_component(i) == 1)
+          {
+            iy = i;
+            break;
+          }
+      for (types::global_dof_index i = 0; i < body.n_dofs(); ++i)
+        if (disc.dof_component(i) == 0 &&
+            disc.dof_position(i).distance(disc.dof_position(iy)) < 1e-12)
+          {
+            ix = i;
+            break;
+          }
+      const Point<2> p = disc.dof_position(iy);
+      return {{"body", body.name()},
+              {"x_m", p[0]},
+              {"y_m", p[1]},
+              {"ux_m", body.displacement(ix)},
+              {"uy_m", body.displacement(iy)}};
+    }
+  } // namespace
+
+
+
+  void
+  RunSummary::write_json(const std::string &path,
+                         const Parameters  &parameters,
+                         const std::string &parameter_file,
+                         const Scene       &scene,
+                         const double       critical_time_step,
+                         const unsigned int n_steps,
+                         const double       wall_time) const
+  {
+    nlohmann::ordered_json summary;
+    summary["parameter_file"] = parameter_file;
+    summary["discretization"] = scene.bodies[0]->discretization().name();
+    summary["mass_matrix"]    = to_string(parameters.mass_scheme);
+    summary["unknowns"]       = scene.n_dofs();
+    summary["cells"]          = nlohmann::ordered_json::array();
+    for (const auto &body : scene.bodies)
+      summary["cells"].push_back(
+        body->discretization().get_triangulation().n_active_cells());
+    summary["vtu_subdivisions"]              = parameters.vtu_subdivisions;
+    summary["time_step_s"]                   = parameters.time_step;
+    summary["critical_time_step_estimate_s"] = critical_time_step;
+    summary["steps"]                         = n_steps;
+    summary["wall_time_s"]                   = wall_time;
+    summary["symmetry_factor"]               = scene.symmetry_factor;
+    summary["obstacle"]                      = parameters.obstacle.type;
+
+    const auto filtered_force             = filtered_peak_force().first;
+    summary["peak_contact_force_N_per_m"] = peak_force();
+    summary["time_of_peak_force_s"]       = time_of_peak_force();
+    summary["contact_duration_s"]         = contact_duration();
+    summary["peak_contact_pressure_Pa"]   = peak_pressure();
+    summary["filter_window_s"]            = filter_window();
+    summary["filtered_peak_contact_force_N_per_m"] = filtered_force;
+    summary["time_of_filtered_peak_force_s"] = time_of_filtered_peak_force();
+    summary["filtered_peak_contact_pressure_Pa"] = filtered_peak_pressure();
+    summary["max_energy_error"]                  = max_energy_error();
+    summary["final_displacement_probe"] = nlohmann::ordered_json::array();
+    for (const auto &body : scene.bodies)
+      summary["final_displacement_probe"].push_back(displacement_probe(*body));
+
+    if (scene.reference)
+      {
+        const auto &ref = *scene.reference;
+        const auto  rel = [](const double value, const double reference) {
+          return (value - reference) / reference;
+        };
+        summary["analytic"]       = {{"approach_law", parameters.approach_law},
+                                     {"peak_contact_force_N_per_m", ref.peak_force()},
+                                     {"time_of_peak_force_s", ref.time_of_peak()},
+                                     {"contact_duration_s", ref.contact_duration()},
+                                     {"peak_contact_pressure_Pa",
+                                      ref.peak_pressure()}};
+        summary["relative_error"] = {
+          {"peak_contact_force", rel(peak_force(), ref.peak_force())},
+          {"time_of_peak_force", rel(time_of_peak_force(), ref.time_of_peak())},
+          {"contact_duration", rel(contact_duration(), ref.contact_duration())},
+          {"peak_contact_pressure", rel(peak_pressure(), ref.peak_pressure())},
+          {"filtered_peak_contact_force",
+           rel(filtered_force, ref.peak_force())},
+          {"time_of_filtered_peak_force",
+           rel(time_of_filtered_peak_force(), ref.time_of_peak())},
+          {"filtered_peak_contact_pressure",
+           rel(filtered_peak_pressure(), ref.peak_pressure())}};
+      }
+
+    {
+      std::ofstream out(path + ".tmp");
+      out << summary.dump(2) << '\n';
+    }
+    std::filesystem::rename(path + ".tmp", path);
+  }
+} // namespace isoimpact
