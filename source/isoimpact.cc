@@ -146,8 +146,7 @@ namespace isoimpact
     pcout << "isoimpact: " << parameter_file << '\n';
     for (const auto &body : scene.bodies)
       pcout << "  " << body->name() << ": " << body->discretization().name()
-            << ", "
-            << body->discretization().get_triangulation().n_active_cells()
+            << ", " << body->discretization().triangulation().n_active_cells()
             << " cells, " << body->n_dofs() << " unknowns, mass "
             << body->total_mass() << " kg/m (" << to_string(body->mass_scheme())
             << ")\n";
@@ -413,11 +412,9 @@ namespace isoimpact
           << "  \"unknowns\": " << scene.n_dofs() << ",\n"
           << "  \"cells\": [";
       for (unsigned int b = 0; b < scene.bodies.size(); ++b)
-        out << (b ? ", " : "")
-            << scene.bodies[b]
-                 ->discretization()
-                 .get_triangulation()
-                 .n_active_cells();
+        out
+          << (b ? ", " : "")
+          << scene.bodies[b]->discretization().triangulation().n_active_cells();
       out << "],\n"
           << "  \"vtu_subdivisions\": " << parameters.vtu_subdivisions << ",\n"
           << "  \"time_step_s\": " << parameters.time_step << ",\n"

@@ -68,7 +68,9 @@ namespace
   multipatch(const BodyGeometry &geometry, const unsigned int degree)
   {
     return [=]() {
-      return create_discretization<2>("iga", geometry, degree);
+      return create_discretization<2>(DiscretizationMethod::iga,
+                                      geometry,
+                                      degree);
     };
   }
 
@@ -207,8 +209,8 @@ namespace
     discretization.to_dof_handler_vector(u, nodal);
     const FEValuesExtractors::Vector   displacement(0);
     const QGauss<2>                    quadrature(4);
-    FEValues<2>                        fe_values(discretization.get_mapping(),
-                          discretization.get_fe(),
+    FEValues<2>                        fe_values(discretization.mapping(),
+                          discretization.fe(),
                           quadrature,
                           update_gradients | update_values |
                             update_quadrature_points);
@@ -216,7 +218,7 @@ namespace
     std::vector<Tensor<1, 2>>          values(quadrature.size());
     double strain_error = 0., stress_error = 0., value_error = 0.;
     for (const auto &cell :
-         discretization.get_dof_handler().active_cell_iterators())
+         discretization.dof_handler().active_cell_iterators())
       {
         fe_values.reinit(cell);
         fe_values[displacement].get_function_symmetric_gradients(nodal,
@@ -243,13 +245,13 @@ namespace
   {
     std::cout << "interface" << std::endl;
     const DiscretizationIGA<2> discretization(half_disk(1), 2);
-    const auto                &patch = discretization.get_patch();
-    CHECK_TRUE(discretization.n_dofs() == 2 * patch.n_control_points());
+    const auto                &patches = discretization.patches();
+    CHECK_TRUE(discretization.n_dofs() == 2 * patches.n_control_points());
     double position_error = 0.;
     for (types::global_dof_index i = 0; i < discretization.n_dofs(); ++i)
       position_error = std::max(position_error,
                                 discretization.dof_position(i).distance(
-                                  patch.control_points()[i / 2]));
+                                  patches.control_points()[i / 2]));
     CHECK_CLOSE_ABS(position_error, 0., 0.);
 
     // Roller on the cut: the x components of the control points on x = 0.
@@ -260,8 +262,8 @@ namespace
       constraints);
     unsigned int n_on_cut = 0;
     bool         all_x    = true;
-    for (unsigned int a = 0; a < patch.n_control_points(); ++a)
-      if (std::abs(patch.control_points()[a][0]) < 1e-12)
+    for (unsigned int a = 0; a < patches.n_control_points(); ++a)
+      if (std::abs(patches.control_points()[a][0]) < 1e-12)
         {
           ++n_on_cut;
           all_x = all_x && constraints.is_constrained(2 * a) &&
@@ -334,19 +336,21 @@ main()
   // in the rational parameter is not halving the arc length), interfaces stay
   // conforming (MultiPatch refuses others), mass and patch test as before.
   {
-    const auto uniform = create_discretization<2>("iga", half_disk(2), 2);
-    const auto local   = create_discretization<2>("iga", half_disk(2, 2), 2);
+    const auto uniform =
+      create_discretization<2>(DiscretizationMethod::iga, half_disk(2), 2);
+    const auto local =
+      create_discretization<2>(DiscretizationMethod::iga, half_disk(2, 2), 2);
     // The diameter of the cell at the contact point (0, 0).
     const auto smallest_near_contact = [](const Discretization<2> &d) {
-      for (const auto &cell : d.get_triangulation().active_cell_iterators())
+      for (const auto &cell : d.triangulation().active_cell_iterators())
         for (const unsigned int v : cell->vertex_indices())
           if (cell->vertex(v).norm() < 1e-12)
             return cell->diameter();
       return 0.;
     };
     std::cout << "local refinement: " << local->name() << std::endl;
-    CHECK_TRUE(local->get_triangulation().n_active_cells() >
-               uniform->get_triangulation().n_active_cells());
+    CHECK_TRUE(local->triangulation().n_active_cells() >
+               uniform->triangulation().n_active_cells());
     CHECK_CLOSE(smallest_near_contact(*local),
                 smallest_near_contact(*uniform) / 4.,
                 0.05);

@@ -282,7 +282,10 @@ namespace
     geometry.upper_right        = b;
     geometry.global_refinements = 0;
     const auto discretization =
-      create_discretization<2>("fea", geometry, 2, FEAElement::serendipity);
+      create_discretization<2>(DiscretizationMethod::fea,
+                               geometry,
+                               2,
+                               FEAElement::serendipity);
     std::cout << "    " << discretization->name() << std::endl;
     CHECK_TRUE(discretization->name() ==
                "FEA, FESystem<2>[FE_Serendipity<2>(2)^2], MappingQ(2)");
@@ -500,14 +503,17 @@ namespace
     material.plane_strain   = true;
     const ElasticBody<2> body(
       "patch",
-      create_discretization<2>("fea", geometry, 2, FEAElement::serendipity),
+      create_discretization<2>(DiscretizationMethod::fea,
+                               geometry,
+                               2,
+                               FEAElement::serendipity),
       material,
       MassScheme::hrz,
       {},
       Tensor<1, 2>());
     const Discretization<2> &discretization = body.discretization();
     const double             area = integrate_mass(discretization, 1.);
-    std::cout << "    " << discretization.get_triangulation().n_active_cells()
+    std::cout << "    " << discretization.triangulation().n_active_cells()
               << " cells, " << discretization.n_dofs() << " unknowns, "
               << body.constraints().n_constraints() << " constrained"
               << std::endl;
@@ -531,16 +537,16 @@ namespace
     // The strain at the 3x3 Gauss points of every cell, relative to |eps|.
     Vector<double> u_distributed = u;
     body.constraints().distribute(u_distributed);
-    Vector<double> nodal(discretization.get_dof_handler().n_dofs());
+    Vector<double> nodal(discretization.dof_handler().n_dofs());
     discretization.to_dof_handler_vector(u_distributed, nodal);
-    FEValues<2>                        fe_values(discretization.get_mapping(),
-                          discretization.get_fe(),
+    FEValues<2>                        fe_values(discretization.mapping(),
+                          discretization.fe(),
                           QGauss<2>(3),
                           update_gradients);
     std::vector<SymmetricTensor<2, 2>> strains(fe_values.n_quadrature_points);
     double                             strain_error = 0.;
     for (const auto &cell :
-         discretization.get_dof_handler().active_cell_iterators())
+         discretization.dof_handler().active_cell_iterators())
       {
         fe_values.reinit(cell);
         fe_values[FEValuesExtractors::Vector(0)]
@@ -597,9 +603,12 @@ main()
   // (nodal trace), to round-off relative to R = 4.
   {
     std::cout << "--- boundary segments of the half disk" << std::endl;
-    const auto q8 =
-      create_discretization<2>("fea", half_disk, 2, FEAElement::serendipity);
-    const auto q9       = create_discretization<2>("fea", half_disk, 2);
+    const auto q8 = create_discretization<2>(DiscretizationMethod::fea,
+                                             half_disk,
+                                             2,
+                                             FEAElement::serendipity);
+    const auto q9 =
+      create_discretization<2>(DiscretizationMethod::fea, half_disk, 2);
     const auto segments = q8->boundary_segments(0);
     CHECK_TRUE(segments.size() == q9->boundary_segments(0).size());
     double              node_distance = 0.;
@@ -631,7 +640,7 @@ main()
       std::string message;
       try
         {
-          create_discretization<2>(kind,
+          create_discretization<2>(discretization_method_from_string(kind),
                                    rectangle,
                                    degree,
                                    FEAElement::serendipity);

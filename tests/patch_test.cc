@@ -111,7 +111,7 @@ namespace
     const Discretization<2>    &discretization = body.discretization();
     const SparseMatrix<double> &K              = body.stiffness_matrix();
     const double                area = integrate_mass(discretization, 1.);
-    std::cout << "    " << discretization.get_triangulation().n_active_cells()
+    std::cout << "    " << discretization.triangulation().n_active_cells()
               << " cells, " << discretization.n_dofs() << " unknowns, "
               << body.constraints().n_constraints() << " constrained, area "
               << area << std::endl;
@@ -171,7 +171,7 @@ namespace
                     1e-10);
 
     // 3. Strain and stress in the cells, via the DoFHandler.
-    Vector<double> nodal(discretization.get_dof_handler().n_dofs());
+    Vector<double> nodal(discretization.dof_handler().n_dofs());
     Vector<double> u_distributed = u;
     body.constraints().distribute(u_distributed);
     discretization.to_dof_handler_vector(u_distributed, nodal);
@@ -180,8 +180,8 @@ namespace
          {Quadrature<2>(QGauss<2>(3)),
           Quadrature<2>(QIterated<2>(QTrapezoid<1>(), 3))})
       {
-        FEValues<2> fe_values(discretization.get_mapping(),
-                              discretization.get_fe(),
+        FEValues<2>                        fe_values(discretization.mapping(),
+                              discretization.fe(),
                               quadrature,
                               update_gradients | update_values |
                                 update_quadrature_points);
@@ -189,7 +189,7 @@ namespace
         std::vector<Tensor<1, 2>>          values(quadrature.size());
         double strain_error = 0., stress_error = 0., value_error = 0.;
         for (const auto &cell :
-             discretization.get_dof_handler().active_cell_iterators())
+             discretization.dof_handler().active_cell_iterators())
           {
             fe_values.reinit(cell);
             fe_values[displacement].get_function_symmetric_gradients(nodal,
