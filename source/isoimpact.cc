@@ -131,7 +131,7 @@ namespace isoimpact
     for (const auto &body : scene.bodies)
       pcout << "  " << body->name() << ": " << body->discretization().name()
             << ", "
-            << body->discretization().get_triangulation().n_active_cells()
+            << body->discretization().triangulation().n_active_cells()
             << " cells, " << body->n_dofs() << " unknowns, mass "
             << body->total_mass() << " kg/m (" << to_string(body->mass_scheme())
             << ")\n";

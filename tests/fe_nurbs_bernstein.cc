@@ -86,19 +86,19 @@ namespace
     std::cout << "degree " << degree << std::endl;
     const Point<2>             corner1(-1., 0.5), corner2(2., 1.75);
     const DiscretizationIGA<2> iga(nurbs::rectangle(corner1, corner2, degree));
-    CHECK_TRUE(iga.get_triangulation().n_active_cells() == 1);
+    CHECK_TRUE(iga.triangulation().n_active_cells() == 1);
 
     const FE_Bernstein<2> bernstein(degree);
     const FESystem<2>     bernstein_system(bernstein, 2);
     const MappingQ<2>     mapping_q(1);
-    const auto           &fe_nurbs = iga.get_fe().base_element(0);
+    const auto           &fe_nurbs = iga.fe().base_element(0);
     CHECK_TRUE(fe_nurbs.n_dofs_per_cell() == bernstein.n_dofs_per_cell());
 
     // lexicographic[h] = lexicographic index of hierarchic function h.
     const std::vector<unsigned int> lexicographic =
       FETools::hierarchic_to_lexicographic_numbering<2>(degree);
 
-    const auto dof_cell = iga.get_dof_handler().begin_active();
+    const auto dof_cell = iga.dof_handler().begin_active();
     // The scalar elements are not the DoFHandler's: FEValues of them are
     // reinitialized on the triangulation cell.
     const typename Triangulation<2>::cell_iterator cell(dof_cell);
@@ -110,10 +110,10 @@ namespace
       const QGauss<2>   quadrature(degree + 2);
       const UpdateFlags flags = update_values | update_gradients |
                                 update_quadrature_points | update_JxW_values;
-      FEValues<2> nurbs_values(iga.get_mapping(), fe_nurbs, quadrature, flags);
+      FEValues<2> nurbs_values(iga.mapping(), fe_nurbs, quadrature, flags);
       FEValues<2> bernstein_values(mapping_q, bernstein, quadrature, flags);
-      FEValues<2> nurbs_system(iga.get_mapping(),
-                               iga.get_fe(),
+      FEValues<2> nurbs_system(iga.mapping(),
+                               iga.fe(),
                                quadrature,
                                update_values | update_gradients);
       FEValues<2> bernstein_system_values(mapping_q,
@@ -138,7 +138,7 @@ namespace
             {
               const auto [c, h] = bernstein_system.system_to_component_index(i);
               const unsigned int j =
-                iga.get_fe().component_to_system_index(c, lexicographic[h]);
+                iga.fe().component_to_system_index(c, lexicographic[h]);
               system_error = std::max(
                 system_error,
                 std::abs(
@@ -160,10 +160,7 @@ namespace
       const UpdateFlags flags = update_values | update_gradients |
                                 update_quadrature_points | update_JxW_values |
                                 update_normal_vectors;
-      FEFaceValues<2> nurbs_values(iga.get_mapping(),
-                                   fe_nurbs,
-                                   quadrature,
-                                   flags);
+      FEFaceValues<2> nurbs_values(iga.mapping(), fe_nurbs, quadrature, flags);
       FEFaceValues<2> bernstein_values(mapping_q, bernstein, quadrature, flags);
       Differences     face_differences;
       double          normal_error = 0.;
@@ -190,16 +187,15 @@ namespace
     {
       const Point<2> unit(0.3, 0.8);
       const Point<2> real =
-        iga.get_mapping().transform_unit_to_real_cell(cell, unit);
+        iga.mapping().transform_unit_to_real_cell(cell, unit);
       CHECK_CLOSE_ABS(real.distance(
                         mapping_q.transform_unit_to_real_cell(cell, unit)),
                       0.,
                       1e-12);
-      CHECK_CLOSE_ABS(iga.get_mapping()
-                        .transform_real_to_unit_cell(cell, real)
-                        .distance(unit),
-                      0.,
-                      1e-12);
+      CHECK_CLOSE_ABS(
+        iga.mapping().transform_real_to_unit_cell(cell, real).distance(unit),
+        0.,
+        1e-12);
     }
   }
 } // namespace

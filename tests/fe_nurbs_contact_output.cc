@@ -88,12 +88,14 @@ namespace
     BodyGeometry disk;
     disk.global_refinements = 3;
     BodyGeometry block;
-    block.shape                     = BodyGeometry::Shape::rectangle;
-    block.lower_left                = Point<2>(-1., -1.);
-    block.upper_right               = Point<2>(2., 0.);
-    block.global_refinements        = 2;
-    const auto disk_discretization  = create_discretization<2>("iga", disk, 2);
-    const auto block_discretization = create_discretization<2>("iga", block, 2);
+    block.shape              = BodyGeometry::Shape::rectangle;
+    block.lower_left         = Point<2>(-1., -1.);
+    block.upper_right        = Point<2>(2., 0.);
+    block.global_refinements = 2;
+    const auto disk_discretization =
+      create_discretization<2>(DiscretizationMethod::iga, disk, 2);
+    const auto block_discretization =
+      create_discretization<2>(DiscretizationMethod::iga, block, 2);
 
     ContactSettings         settings;
     const PenaltyContact<2> contact(
@@ -152,9 +154,9 @@ namespace
 
     const Check check;
     DataOut<2>  data_out;
-    data_out.attach_dof_handler(discretization.get_dof_handler());
+    data_out.attach_dof_handler(discretization.dof_handler());
     data_out.add_data_vector(nodal, check);
-    data_out.build_patches(discretization.get_mapping(),
+    data_out.build_patches(discretization.mapping(),
                            3,
                            DataOut<2>::curved_inner_cells);
     std::ostringstream vtu;

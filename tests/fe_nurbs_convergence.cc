@@ -116,17 +116,17 @@ namespace
     constraints.distribute(u);
 
     // L2 error with a richer rule.
-    Vector<double> u_dofs(disc.get_dof_handler().n_dofs());
+    Vector<double> u_dofs(disc.dof_handler().n_dofs());
     disc.to_dof_handler_vector(u, u_dofs);
     const QGauss<2>             quadrature(degree + 4);
-    FEValues<2>                 error_values(disc.get_mapping(),
-                             disc.get_fe(),
+    FEValues<2>                 error_values(disc.mapping(),
+                             disc.fe(),
                              quadrature,
                              update_values | update_quadrature_points |
                                update_JxW_values);
     std::vector<Vector<double>> values(quadrature.size(), Vector<double>(2));
     double                      error = 0.;
-    for (const auto &cell : disc.get_dof_handler().active_cell_iterators())
+    for (const auto &cell : disc.dof_handler().active_cell_iterators())
       {
         error_values.reinit(cell);
         error_values.get_function_values(u_dofs, values);

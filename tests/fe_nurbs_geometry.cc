@@ -67,10 +67,10 @@ namespace
               << " refinements, " << extra_points << " extra points"
               << std::endl;
     const DiscretizationIGA<2> discretization(half_disk(refinements), degree);
-    const auto                &mapping   = discretization.get_mapping();
-    const auto                &fe_system = discretization.get_fe();
-    const auto                &fe        = fe_system.base_element(0);
-    const auto &triangulation            = discretization.get_triangulation();
+    const auto                &mapping       = discretization.mapping();
+    const auto                &fe_system     = discretization.fe();
+    const auto                &fe            = fe_system.base_element(0);
+    const auto                &triangulation = discretization.triangulation();
 
     const QGauss<2> quadrature(degree + 1 + extra_points);
     FEValues<2>     fe_values(mapping,
@@ -83,19 +83,19 @@ namespace
                               quadrature,
                               update_values | update_gradients);
 
-    const auto &patch      = discretization.get_patch();
+    const auto &patches    = discretization.patches();
     double      area       = 0.;
     double max_value_error = 0., max_gradient_error = 0., max_system_error = 0.,
            max_identity_error = 0.;
     std::vector<unsigned int> control_points;
     for (const auto &cell :
-         discretization.get_dof_handler().active_cell_iterators())
+         discretization.dof_handler().active_cell_iterators())
       {
         // The scalar element is not the DoFHandler's: reinit on the
         // triangulation cell.
         fe_values.reinit(typename Triangulation<2>::cell_iterator(cell));
         system_values.reinit(cell);
-        patch.element_control_points(cell->user_index(), control_points);
+        patches.element_control_points(cell->user_index(), control_points);
         for (unsigned int q = 0; q < quadrature.size(); ++q)
           {
             area += fe_values.JxW(q);
@@ -108,7 +108,7 @@ namespace
                 sum += fe_values.shape_value(i, q);
                 gradient_sum += fe_values.shape_grad(i, q);
                 gradient_scale += fe_values.shape_grad(i, q).norm();
-                const Point<2> &P = patch.control_points()[control_points[i]];
+                const Point<2> &P = patches.control_points()[control_points[i]];
                 for (unsigned int a = 0; a < 2; ++a)
                   grad_x[a] += P[a] * fe_values.shape_grad(i, q);
               }
@@ -132,7 +132,7 @@ namespace
     CHECK_CLOSE_ABS(max_gradient_error, 0., 1e-13);
     CHECK_CLOSE_ABS(max_system_error, 0., 1e-13);
     CHECK_CLOSE_ABS(max_identity_error, 0., 1e-12);
-    CHECK_TRUE(triangulation.n_active_cells() == patch.n_elements());
+    CHECK_TRUE(triangulation.n_active_cells() == patches.n_elements());
   }
 
   void
@@ -142,8 +142,8 @@ namespace
               << " refinements" << std::endl;
     const DiscretizationIGA<2> discretization(half_disk(refinements), degree);
     const QGauss<1>            quadrature(12);
-    FEFaceValues<2>            fe_face_values(discretization.get_mapping(),
-                                   discretization.get_fe(),
+    FEFaceValues<2>            fe_face_values(discretization.mapping(),
+                                   discretization.fe(),
                                    quadrature,
                                    update_values | update_quadrature_points |
                                      update_normal_vectors | update_JxW_values);
@@ -151,7 +151,7 @@ namespace
            arc_length = 0., cut_length = 0.;
     unsigned int n_arc_faces = 0, n_cut_faces = 0;
     for (const auto &cell :
-         discretization.get_dof_handler().active_cell_iterators())
+         discretization.dof_handler().active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
         if (cell->face(f)->at_boundary())
           {
@@ -201,13 +201,13 @@ namespace
     std::cout << "cell similarity" << std::endl;
     const DiscretizationIGA<2> discretization(half_disk(2), 2);
     const QGauss<2>            quadrature(3);
-    FEValues<2>                fe_values(discretization.get_mapping(),
-                          discretization.get_fe(),
+    FEValues<2>                fe_values(discretization.mapping(),
+                          discretization.fe(),
                           quadrature,
                           update_values | update_gradients | update_JxW_values);
     std::vector<typename DoFHandler<2>::active_cell_iterator> cells;
     for (const auto &cell :
-         discretization.get_dof_handler().active_cell_iterators())
+         discretization.dof_handler().active_cell_iterators())
       cells.push_back(cell);
     std::vector<double> forward(cells.size()), backward(cells.size());
     for (unsigned int pass = 0; pass < 2; ++pass)

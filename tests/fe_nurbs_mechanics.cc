@@ -44,7 +44,7 @@ namespace
   multipatch(const BodyGeometry &geometry, const unsigned int degree)
   {
     return [=]() {
-      return create_discretization<2>("iga", geometry, degree);
+      return create_discretization<2>(DiscretizationMethod::iga, geometry, degree);
     };
   }
 
@@ -108,13 +108,13 @@ namespace
   {
     std::cout << "interface" << std::endl;
     const DiscretizationIGA<2> discretization(half_disk(1), 2);
-    const auto                &patch = discretization.get_patch();
-    CHECK_TRUE(discretization.n_dofs() == 2 * patch.n_control_points());
+    const auto                &patches = discretization.patches();
+    CHECK_TRUE(discretization.n_dofs() == 2 * patches.n_control_points());
     double position_error = 0.;
     for (types::global_dof_index i = 0; i < discretization.n_dofs(); ++i)
       position_error = std::max(position_error,
                                 discretization.dof_position(i).distance(
-                                  patch.control_points()[i / 2]));
+                                  patches.control_points()[i / 2]));
     CHECK_CLOSE_ABS(position_error, 0., 0.);
 
     // Roller on the cut: the x components of the control points on x = 0.
@@ -125,8 +125,8 @@ namespace
       constraints);
     unsigned int n_on_cut = 0;
     bool         all_x    = true;
-    for (unsigned int a = 0; a < patch.n_control_points(); ++a)
-      if (std::abs(patch.control_points()[a][0]) < 1e-12)
+    for (unsigned int a = 0; a < patches.n_control_points(); ++a)
+      if (std::abs(patches.control_points()[a][0]) < 1e-12)
         {
           ++n_on_cut;
           all_x = all_x && constraints.is_constrained(2 * a) &&
@@ -192,19 +192,19 @@ main()
   // conforming (MultiPatch refuses others), mass as before (the patch test is
   // in tests/patch_test.cc).
   {
-    const auto uniform = create_discretization<2>("iga", half_disk(2), 2);
-    const auto local   = create_discretization<2>("iga", half_disk(2, 2), 2);
+    const auto uniform = create_discretization<2>(DiscretizationMethod::iga, half_disk(2), 2);
+    const auto local   = create_discretization<2>(DiscretizationMethod::iga, half_disk(2, 2), 2);
     // The diameter of the cell at the contact point (0, 0).
     const auto smallest_near_contact = [](const Discretization<2> &d) {
-      for (const auto &cell : d.get_triangulation().active_cell_iterators())
+      for (const auto &cell : d.triangulation().active_cell_iterators())
         for (const unsigned int v : cell->vertex_indices())
           if (cell->vertex(v).norm() < 1e-12)
             return cell->diameter();
       return 0.;
     };
     std::cout << "local refinement: " << local->name() << std::endl;
-    CHECK_TRUE(local->get_triangulation().n_active_cells() >
-               uniform->get_triangulation().n_active_cells());
+    CHECK_TRUE(local->triangulation().n_active_cells() >
+               uniform->triangulation().n_active_cells());
     CHECK_CLOSE(smallest_near_contact(*local),
                 smallest_near_contact(*uniform) / 4.,
                 0.05);

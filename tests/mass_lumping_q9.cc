@@ -78,7 +78,7 @@ namespace
     const DiscretizationFEA<2> discretization(geometry, 2);
 
     const double element_mass = density * (b[0] - a[0]) * (b[1] - a[1]);
-    CHECK_TRUE(discretization.get_triangulation().n_active_cells() == 1);
+    CHECK_TRUE(discretization.triangulation().n_active_cells() == 1);
     CHECK_TRUE(discretization.n_dofs() == 18);
 
     AffineConstraints<double> no_constraints;

@@ -143,7 +143,7 @@ namespace isoimpact_tests
     const double area = isoimpact::integrate_mass(disc, 1.);
     std::cout << "--- patch test, " << name << ", " << disc.name()
               << (plane_strain ? ", plane strain: " : ", plane stress: ")
-              << disc.get_triangulation().n_active_cells() << " cells, "
+              << disc.triangulation().n_active_cells() << " cells, "
               << disc.n_dofs() << " unknowns, "
               << body.constraints().n_constraints() << " constrained, area "
               << area << std::endl;
@@ -218,7 +218,7 @@ namespace isoimpact_tests
                 true);
 
     // 3. Strain, stress and values in the cells, via the DoFHandler.
-    dealii::Vector<double> nodal(disc.get_dof_handler().n_dofs());
+    dealii::Vector<double> nodal(disc.dof_handler().n_dofs());
     dealii::Vector<double> u_distributed = u;
     body.constraints().distribute(u_distributed);
     disc.to_dof_handler_vector(u_distributed, nodal);
@@ -230,8 +230,8 @@ namespace isoimpact_tests
         dealii::QIterated<2>(dealii::QTrapezoid<1>(), 3));
     for (const auto &quadrature : quadratures)
       {
-        dealii::FEValues<2>                        fe_values(disc.get_mapping(),
-                                      disc.get_fe(),
+        dealii::FEValues<2>                        fe_values(disc.mapping(),
+                                      disc.fe(),
                                       quadrature,
                                       dealii::update_gradients |
                                         dealii::update_values |
@@ -239,7 +239,7 @@ namespace isoimpact_tests
         std::vector<dealii::SymmetricTensor<2, 2>> strains(quadrature.size());
         std::vector<dealii::Tensor<1, 2>>          values(quadrature.size());
         double strain_error = 0., stress_error = 0., value_error = 0.;
-        for (const auto &cell : disc.get_dof_handler().active_cell_iterators())
+        for (const auto &cell : disc.dof_handler().active_cell_iterators())
           {
             fe_values.reinit(cell);
             fe_values[displacement].get_function_symmetric_gradients(nodal,

@@ -135,13 +135,13 @@ main()
       const double integrated = integrate_mass(discretization, density);
       const double error      = std::abs(integrated - exact) / exact;
       std::cout << "--- global refinements " << level << ": "
-                << discretization.get_triangulation().n_active_cells()
+                << discretization.triangulation().n_active_cells()
                 << " cells, mass " << std::setprecision(16) << integrated
                 << ", relative error " << std::setprecision(4) << error
                 << std::endl;
       unsigned int n_arc_faces = 0;
       for (const auto &face :
-           discretization.get_triangulation().active_face_iterators())
+           discretization.triangulation().active_face_iterators())
         if (face->at_boundary() &&
             face->boundary_id() == BodyGeometry::curved_boundary_id)
           ++n_arc_faces;
@@ -180,11 +180,10 @@ main()
     const double integrated = integrate_mass(discretization, density);
     const double error      = std::abs(integrated - exact) / exact;
     std::cout << "--- global 2, local 2 near (0, 0): "
-              << discretization.get_triangulation().n_active_cells()
-              << " cells, " << constraints.n_constraints()
-              << " constrained unknowns, mass " << std::setprecision(16)
-              << integrated << ", relative error " << std::setprecision(4)
-              << error << std::endl;
+              << discretization.triangulation().n_active_cells() << " cells, "
+              << constraints.n_constraints() << " constrained unknowns, mass "
+              << std::setprecision(16) << integrated << ", relative error "
+              << std::setprecision(4) << error << std::endl;
     CHECK_TRUE(constraints.n_constraints() > 0);
     // Refining part of the mesh can only improve the arc near (0, 0).
     CHECK_TRUE(error <= error_level_2);

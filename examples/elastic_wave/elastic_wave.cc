@@ -21,7 +21,9 @@ main()
 
   ElasticMaterial material; // E = 1000 Pa, nu = 0.2, rho = 1 kg/m^3
   ElasticBody<2>  body("block",
-                      create_discretization<2>("fea", geometry, 2),
+                      create_discretization<2>(DiscretizationMethod::fea,
+                                               geometry,
+                                               2),
                       material,
                       MassScheme::hrz,
                       {},

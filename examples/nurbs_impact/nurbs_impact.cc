@@ -36,7 +36,7 @@ main()
       geometry.global_refinements = 3;
       bodies.push_back(std::make_unique<ElasticBody<2>>(
         side > 0 ? "upper" : "lower",
-        create_discretization<2>("iga", geometry, 2),
+        create_discretization<2>(DiscretizationMethod::iga, geometry, 2),
         material,
         MassScheme::hrz,
         std::vector<RollerCondition>{{BodyGeometry::symmetry_boundary_id, 0}},

@@ -93,17 +93,17 @@ main()
   constraints.distribute(u);
 
   // The L2 error, and the solution for ParaView.
-  Vector<double> u_dofs(disc.get_dof_handler().n_dofs());
+  Vector<double> u_dofs(disc.dof_handler().n_dofs());
   disc.to_dof_handler_vector(u, u_dofs);
-  FEValues<2>                 fe_values(disc.get_mapping(),
-                        disc.get_fe(),
-                        disc.get_cell_quadrature(),
+  FEValues<2>                 fe_values(disc.mapping(),
+                        disc.fe(),
+                        disc.cell_quadrature(),
                         update_values | update_quadrature_points |
                           update_JxW_values);
   std::vector<Vector<double>> values(fe_values.n_quadrature_points,
                                      Vector<double>(2));
   double                      error = 0.;
-  for (const auto &cell : disc.get_dof_handler().active_cell_iterators())
+  for (const auto &cell : disc.dof_handler().active_cell_iterators())
     {
       fe_values.reinit(cell);
       fe_values.get_function_values(u_dofs, values);
@@ -117,7 +117,7 @@ main()
   error = std::sqrt(error);
 
   DataOut<2> data_out;
-  data_out.attach_dof_handler(disc.get_dof_handler());
+  data_out.attach_dof_handler(disc.dof_handler());
   data_out.add_data_vector(
     u_dofs,
     std::vector<std::string>(2, "displacement_m"),
@@ -125,7 +125,7 @@ main()
     std::vector<DataComponentInterpretation::DataComponentInterpretation>(
       2,
       DataComponentInterpretation::component_is_part_of_vector));
-  data_out.build_patches(disc.get_mapping(), 4, DataOut<2>::curved_inner_cells);
+  data_out.build_patches(disc.mapping(), 4, DataOut<2>::curved_inner_cells);
   std::ofstream out("quarter_annulus.vtu");
   data_out.write_vtu(out);
 

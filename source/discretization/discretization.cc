@@ -1,4 +1,5 @@
-// Layer 3: what FEA and IGA share: boundary segments and the factory.
+// Layer 3: what FEA and IGA share: the base class, the coarse mesh and the
+// factory.
 #include <deal.II/base/exceptions.h>
 
 #include <deal.II/grid/grid_generator.h>
@@ -7,174 +8,71 @@
 #include <isoimpact/discretization/discretization_fea.h>
 #include <isoimpact/discretization/discretization_iga.h>
 
-#include <cmath>
+#include <utility>
 
 using namespace dealii;
 
 namespace isoimpact
 {
-  namespace
-  {
-    // B_j^p(eta) and their derivatives.
-    void
-    bernstein_basis(const unsigned int   degree,
-                    const double         eta,
-                    std::vector<double> &values,
-                    std::vector<double> &derivatives)
-    {
-      values.assign(degree + 1, 0.);
-      derivatives.assign(degree + 1, 0.);
-      // Degree p-1 values first (de Casteljau triangle), then degree p.
-      std::vector<double> lower(degree + 1, 0.);
-      lower[0] = 1.;
-      for (unsigned int q = 1; q < degree; ++q)
-        {
-          for (unsigned int j = q; j > 0; --j)
-            lower[j] = (1. - eta) * lower[j] + eta * lower[j - 1];
-          lower[0] *= (1. - eta);
-        }
-      for (unsigned int j = 0; j <= degree; ++j)
-        {
-          const double left  = (j > 0) ? lower[j - 1] : 0.;
-          const double right = (j < degree) ? lower[j] : 0.;
-          values[j]          = (1. - eta) * right + eta * left;
-          derivatives[j]     = degree * (left - right);
-        }
-    }
-  } // namespace
+  template <int dim>
+  Discretization<dim>::Discretization(
+    const FiniteElement<dim>           &scalar_fe,
+    std::unique_ptr<const Mapping<dim>> mapping,
+    const unsigned int                  n_gauss_points)
+    : vector_fe(scalar_fe, dim)
+    , cell_mapping(std::move(mapping))
+    , gauss_quadrature(n_gauss_points)
+  {}
 
-  FullMatrix<double>
-  bernstein_coefficients_from_values(const FullMatrix<double> &values)
+  template <int dim>
+  void
+  Discretization<dim>::set_unknowns(std::vector<Point<dim>>    positions,
+                                    std::vector<unsigned char> components)
   {
-    const unsigned int n_points = values.n();
-    AssertThrow(n_points >= 2,
-                ExcMessage("Bernstein fit needs at least two points"));
-    const unsigned int  degree = n_points - 1;
-    FullMatrix<double>  vandermonde(n_points, n_points);
-    std::vector<double> b, db;
-    for (unsigned int j = 0; j < n_points; ++j)
-      {
-        bernstein_basis(degree, double(j) / degree, b, db);
-        for (unsigned int m = 0; m < n_points; ++m)
-          vandermonde(j, m) = b[m];
-      }
-    vandermonde.gauss_jordan();
-    // coefficients^T = V^{-1} values^T, i.e. coefficients = values V^{-T}.
-    FullMatrix<double> coefficients(values.m(), n_points);
-    values.mTmult(coefficients, vandermonde);
-    return coefficients;
+    AssertDimension(positions.size(), components.size());
+    unknown_positions  = std::move(positions);
+    unknown_components = std::move(components);
   }
 
   template <int dim>
   void
-  evaluate_segment_basis(const BoundarySegment<dim> &segment,
-                         const double                eta,
-                         std::vector<double>        &values,
-                         std::vector<double>        &derivatives)
-  {
-    thread_local std::vector<double> b, db;
-    bernstein_basis(segment.degree, eta, b, db);
-    const unsigned int n_nodes = segment.node_positions.size();
-    values.resize(n_nodes);
-    derivatives.resize(n_nodes);
-    double weight_sum = 0., weight_sum_derivative = 0.;
-    for (unsigned int k = 0; k < n_nodes; ++k)
-      {
-        double n = 0., dn = 0.;
-        for (unsigned int j = 0; j <= segment.degree; ++j)
-          {
-            n += segment.bernstein_coefficients(k, j) * b[j];
-            dn += segment.bernstein_coefficients(k, j) * db[j];
-          }
-        values[k]      = segment.node_weights[k] * n;
-        derivatives[k] = segment.node_weights[k] * dn;
-        weight_sum += values[k];
-        weight_sum_derivative += derivatives[k];
-      }
-    for (unsigned int k = 0; k < n_nodes; ++k)
-      {
-        derivatives[k] =
-          (derivatives[k] * weight_sum - values[k] * weight_sum_derivative) /
-          (weight_sum * weight_sum);
-        values[k] /= weight_sum;
-      }
-  }
-
-  namespace
-  {
-    template <int dim>
-    std::vector<std::array<Point<dim>, 2>>
-    segment_ends(const std::vector<BoundarySegment<dim>> &segments)
-    {
-      std::vector<std::array<Point<dim>, 2>> ends(segments.size());
-      std::vector<double>                    values, derivatives;
-      for (unsigned int s = 0; s < segments.size(); ++s)
-        for (unsigned int e = 0; e < 2; ++e)
-          {
-            evaluate_segment_basis(segments[s], double(e), values, derivatives);
-            for (unsigned int k = 0; k < values.size(); ++k)
-              ends[s][e] += values[k] * segments[s].node_positions[k];
-          }
-      return ends;
-    }
-  } // namespace
+  Discretization<dim>::make_constraints(AffineConstraints<double> &) const
+  {}
 
   template <int dim>
-  void
-  mark_free_segment_ends(std::vector<BoundarySegment<dim>>       &segments,
-                         const std::vector<BoundarySegment<dim>> &continuation)
+  std::vector<BoundarySegment<dim>>
+  Discretization<dim>::boundary_segments(
+    const types::boundary_id boundary_id) const
   {
-    const auto ends  = segment_ends(segments);
-    const auto other = segment_ends(continuation);
-    // Quadratic in the number of segments, but done once in set-up.
-    for (unsigned int s = 0; s < segments.size(); ++s)
-      {
-        const double tolerance = 1e-8 * ends[s][0].distance(ends[s][1]);
-        const auto   meets     = [&](const std::array<Point<dim>, 2> &pair,
-                               const Point<dim>                &x) {
-          return x.distance(pair[0]) < tolerance ||
-                 x.distance(pair[1]) < tolerance;
-        };
-        for (unsigned int e = 0; e < 2; ++e)
-          {
-            bool shared = false;
-            for (unsigned int t = 0; t < segments.size() && !shared; ++t)
-              shared = (t != s) && meets(ends[t], ends[s][e]);
-            for (unsigned int t = 0; t < other.size() && !shared; ++t)
-              shared = meets(other[t], ends[s][e]);
-            segments[s].free_end[e] = !shared;
-          }
-      }
-  }
-
-  template <int dim>
-  void
-  orient_segment(BoundarySegment<dim> &segment,
-                 const Tensor<1, dim> &outward_normal)
-  {
-    std::vector<double> r, dr;
-    evaluate_segment_basis(segment, 0.5, r, dr);
-    Tensor<1, dim> tangent;
-    for (unsigned int k = 0; k < r.size(); ++k)
-      tangent += dr[k] * segment.node_positions[k];
-    Tensor<1, dim> rotated;
-    rotated[0]                 = tangent[1];
-    rotated[1]                 = -tangent[0];
-    segment.normal_orientation = (rotated * outward_normal > 0) ? 1. : -1.;
-  }
-
-  template <int dim>
-  void
-  mark_free_segment_ends(const Discretization<dim>         &discretization,
-                         const types::boundary_id           boundary_id,
-                         std::vector<BoundarySegment<dim>> &segments)
-  {
+    AssertThrow(dim == 2,
+                ExcMessage("boundary segments are implemented for dim = 2"));
+    auto segments = unmarked_boundary_segments(boundary_id);
     // The contact surface goes on across the symmetry cut (mirror image).
     mark_free_segment_ends(segments,
                            boundary_id == BodyGeometry::symmetry_boundary_id ?
                              std::vector<BoundarySegment<dim>>() :
-                             discretization.boundary_segments(
+                             unmarked_boundary_segments(
                                BodyGeometry::symmetry_boundary_id));
+    return segments;
+  }
+
+  template <int dim>
+  void
+  Discretization<dim>::to_dof_handler_vector(
+    const Vector<double> &unknowns,
+    Vector<double>       &dof_handler_vector) const
+  {
+    AssertDimension(unknowns.size(), n_dofs());
+    dof_handler_vector.reinit(dofs.n_dofs());
+    std::vector<types::global_dof_index> local(vector_fe.n_dofs_per_cell());
+    std::vector<types::global_dof_index> global(vector_fe.n_dofs_per_cell());
+    for (const auto &cell : dofs.active_cell_iterators())
+      {
+        cell->get_dof_indices(local);
+        get_dof_indices(cell, global);
+        for (unsigned int i = 0; i < local.size(); ++i)
+          dof_handler_vector[local[i]] = unknowns[global[i]];
+      }
   }
 
   void
@@ -221,45 +119,47 @@ namespace isoimpact
     return element == FEAElement::serendipity ? "serendipity" : "lagrange";
   }
 
+  DiscretizationMethod
+  discretization_method_from_string(const std::string &name)
+  {
+    for (const auto method :
+         {DiscretizationMethod::fea, DiscretizationMethod::iga})
+      if (to_string(method) == name)
+        return method;
+    AssertThrow(false,
+                ExcMessage("unknown discretisation '" + name +
+                           "': allowed are 'fea' and 'iga'"));
+    return DiscretizationMethod::fea;
+  }
+
+  std::string
+  to_string(const DiscretizationMethod method)
+  {
+    return method == DiscretizationMethod::iga ? "iga" : "fea";
+  }
+
   template <int dim>
   std::unique_ptr<Discretization<dim>>
-  create_discretization(const std::string  &kind,
-                        const BodyGeometry &geometry,
-                        const unsigned int  degree,
-                        const FEAElement    fea_element)
+  create_discretization(const DiscretizationMethod method,
+                        const BodyGeometry        &geometry,
+                        const unsigned int         degree,
+                        const FEAElement           fea_element)
   {
-    if (kind == "fea")
+    if (method == DiscretizationMethod::fea)
       return std::make_unique<DiscretizationFEA<dim>>(geometry,
                                                       degree,
                                                       fea_element);
     AssertThrow(fea_element == FEAElement::lagrange,
                 ExcMessage("the FEA element '" + to_string(fea_element) +
-                           "' was asked for the discretisation '" + kind +
+                           "' was asked for the discretisation '" +
+                           to_string(method) +
                            "': it is allowed only with 'fea'"));
-    if (kind == "iga")
-      return std::make_unique<DiscretizationIGA<dim>>(geometry, degree);
-    AssertThrow(false,
-                ExcMessage("unknown discretisation '" + kind +
-                           "': allowed are 'fea' and 'iga'"));
-    return nullptr;
+    return std::make_unique<DiscretizationIGA<dim>>(geometry, degree);
   }
 
-  template void
-  evaluate_segment_basis(const BoundarySegment<2> &,
-                         const double,
-                         std::vector<double> &,
-                         std::vector<double> &);
-  template void
-  mark_free_segment_ends(std::vector<BoundarySegment<2>> &,
-                         const std::vector<BoundarySegment<2>> &);
-  template void
-  mark_free_segment_ends(const Discretization<2> &,
-                         const types::boundary_id,
-                         std::vector<BoundarySegment<2>> &);
-  template void
-  orient_segment(BoundarySegment<2> &, const Tensor<1, 2> &);
+  template class Discretization<2>;
   template std::unique_ptr<Discretization<2>>
-  create_discretization<2>(const std::string &,
+  create_discretization<2>(const DiscretizationMethod,
                            const BodyGeometry &,
                            const unsigned int,
                            const FEAElement);

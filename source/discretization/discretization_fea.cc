@@ -6,7 +6,7 @@
 
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_values.h>
-
+#include <deal.II/fe/mapping_q.h>
 
 #include <deal.II/numerics/vector_tools.h>
 
@@ -45,28 +45,35 @@ namespace isoimpact
   DiscretizationFEA<dim>::DiscretizationFEA(const BodyGeometry &geometry,
                                             const unsigned int  degree,
                                             const FEAElement    element)
-    : fe(*make_scalar_fe<dim>(degree, element), dim)
-    , mapping(degree)
-    , cell_quadrature(degree + 1)
+    // Braces: the element (which checks the degree) is made before the
+    // mapping.
+    : Discretization<dim>{*make_scalar_fe<dim>(degree, element),
+                          std::make_unique<MappingQ<dim>>(degree),
+                          degree + 1}
   {
     make_mesh(geometry);
 
-    dof_handler.reinit(triangulation);
-    dof_handler.distribute_dofs(fe);
+    auto &dof_handler = this->dofs;
+    dof_handler.reinit(this->mesh);
+    dof_handler.distribute_dofs(this->fe());
     // Bandwidth-reducing order: neighbouring unknowns close in memory.
     DoFRenumbering::Cuthill_McKee(dof_handler);
 
-    support_points.resize(dof_handler.n_dofs());
-    DoFTools::map_dofs_to_support_points(mapping, dof_handler, support_points);
+    std::vector<Point<dim>> support_points(dof_handler.n_dofs());
+    DoFTools::map_dofs_to_support_points(this->mapping(),
+                                         dof_handler,
+                                         support_points);
 
-    components.resize(dof_handler.n_dofs());
-    std::vector<types::global_dof_index> indices(fe.n_dofs_per_cell());
+    std::vector<unsigned char>           components(dof_handler.n_dofs());
+    std::vector<types::global_dof_index> indices(this->fe().n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         cell->get_dof_indices(indices);
         for (unsigned int i = 0; i < indices.size(); ++i)
-          components[indices[i]] = fe.system_to_component_index(i).first;
+          components[indices[i]] =
+            this->fe().system_to_component_index(i).first;
       }
+    this->set_unknowns(std::move(support_points), std::move(components));
   }
 
 
@@ -77,6 +84,7 @@ namespace isoimpact
   {
     using Shape = BodyGeometry::Shape;
     const Point<dim> center(geometry.center);
+    auto            &triangulation = this->mesh;
     make_coarse_mesh(geometry, triangulation);
 
     if (geometry.shape != Shape::rectangle)
@@ -115,50 +123,9 @@ namespace isoimpact
   std::string
   DiscretizationFEA<dim>::name() const
   {
-    return "FEA, " + fe.get_name() + ", MappingQ(" +
-           std::to_string(mapping.get_degree()) + ")";
-  }
-
-  template <int dim>
-  const Triangulation<dim> &
-  DiscretizationFEA<dim>::get_triangulation() const
-  {
-    return triangulation;
-  }
-
-  template <int dim>
-  const Mapping<dim> &
-  DiscretizationFEA<dim>::get_mapping() const
-  {
-    return mapping;
-  }
-
-  template <int dim>
-  const FiniteElement<dim> &
-  DiscretizationFEA<dim>::get_fe() const
-  {
-    return fe;
-  }
-
-  template <int dim>
-  const DoFHandler<dim> &
-  DiscretizationFEA<dim>::get_dof_handler() const
-  {
-    return dof_handler;
-  }
-
-  template <int dim>
-  const Quadrature<dim> &
-  DiscretizationFEA<dim>::get_cell_quadrature() const
-  {
-    return cell_quadrature;
-  }
-
-  template <int dim>
-  types::global_dof_index
-  DiscretizationFEA<dim>::n_dofs() const
-  {
-    return dof_handler.n_dofs();
+    // The mapping's degree is the element's (2 for the Q8 element).
+    return "FEA, " + this->fe().get_name() + ", MappingQ(" +
+           std::to_string(this->fe().degree) + ")";
   }
 
   template <int dim>
@@ -167,22 +134,8 @@ namespace isoimpact
     const cell_iterator                  &cell,
     std::vector<types::global_dof_index> &indices) const
   {
-    indices.resize(fe.n_dofs_per_cell());
+    indices.resize(this->fe().n_dofs_per_cell());
     cell->get_dof_indices(indices);
-  }
-
-  template <int dim>
-  unsigned int
-  DiscretizationFEA<dim>::dof_component(const types::global_dof_index dof) const
-  {
-    return components[dof];
-  }
-
-  template <int dim>
-  Point<dim>
-  DiscretizationFEA<dim>::dof_position(const types::global_dof_index dof) const
-  {
-    return support_points[dof];
   }
 
   template <int dim>
@@ -190,7 +143,7 @@ namespace isoimpact
   DiscretizationFEA<dim>::make_constraints(
     AffineConstraints<double> &constraints) const
   {
-    DoFTools::make_hanging_node_constraints(dof_handler, constraints);
+    DoFTools::make_hanging_node_constraints(this->dof_handler(), constraints);
   }
 
   template <int dim>
@@ -202,8 +155,8 @@ namespace isoimpact
   {
     std::vector<bool> mask(dim, false);
     mask[component] = true;
-    VectorTools::interpolate_boundary_values(mapping,
-                                             dof_handler,
+    VectorTools::interpolate_boundary_values(this->mapping(),
+                                             this->dof_handler(),
                                              boundary_id,
                                              Functions::ZeroFunction<dim>(dim),
                                              constraints,
@@ -212,11 +165,10 @@ namespace isoimpact
 
   template <int dim>
   std::vector<BoundarySegment<dim>>
-  DiscretizationFEA<dim>::boundary_segments(
+  DiscretizationFEA<dim>::unmarked_boundary_segments(
     const types::boundary_id boundary_id) const
   {
-    AssertThrow(dim == 2,
-                ExcMessage("boundary segments are implemented for dim = 2"));
+    const auto                 &fe       = this->fe();
     const unsigned int          degree   = fe.base_element(0).degree;
     const unsigned int          n_points = degree + 1;
     std::vector<Point<dim - 1>> points(n_points);
@@ -224,7 +176,7 @@ namespace isoimpact
       points[j][0] = double(j) / degree;
     const Quadrature<dim - 1> sampling(points,
                                        std::vector<double>(n_points, 1.));
-    FEFaceValues<dim>         fe_face_values(mapping,
+    FEFaceValues<dim>         fe_face_values(this->mapping(),
                                      fe,
                                      sampling,
                                      update_values | update_quadrature_points |
@@ -233,7 +185,7 @@ namespace isoimpact
     std::vector<BoundarySegment<dim>>    segments;
     std::vector<types::global_dof_index> indices(fe.n_dofs_per_cell());
     const auto                          &scalar_fe = fe.base_element(0);
-    for (const auto &cell : dof_handler.active_cell_iterators())
+    for (const auto &cell : this->dof_handler().active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
         if (cell->face(f)->at_boundary() &&
             cell->face(f)->boundary_id() == boundary_id)
@@ -263,7 +215,8 @@ namespace isoimpact
                   segment.node_dofs[k][d] = indices[i];
                   if (d == 0)
                     {
-                      segment.node_positions[k] = support_points[indices[i]];
+                      segment.node_positions[k] =
+                        this->dof_position(indices[i]);
                       for (unsigned int j = 0; j < n_points; ++j)
                         values(k, j) =
                           fe_face_values.shape_value_component(i, j, 0);
@@ -277,17 +230,7 @@ namespace isoimpact
             orient_segment(segment, fe_face_values.normal_vector(n_points / 2));
             segments.push_back(segment);
           }
-    mark_free_segment_ends(*this, boundary_id, segments);
     return segments;
-  }
-
-  template <int dim>
-  void
-  DiscretizationFEA<dim>::to_dof_handler_vector(
-    const Vector<double> &unknowns,
-    Vector<double>       &dof_handler_vector) const
-  {
-    dof_handler_vector = unknowns;
   }
 
   template class DiscretizationFEA<2>;

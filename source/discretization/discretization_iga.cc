@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <utility>
 
 using namespace dealii;
 
@@ -54,7 +55,8 @@ namespace isoimpact
 
     Triangulation<2> coarse;
     make_coarse_mesh(body, coarse);
-    PatchSet result;
+    std::vector<nurbs::NURBSPatch<dim>> patches;
+    PatchSet                            result;
     for (const auto &cell : coarse.active_cell_iterators())
       {
         std::array<Point<2>, 4>                 vertices;
@@ -89,7 +91,7 @@ namespace isoimpact
           }
         if (body.global_refinements > 0)
           patch.refine_uniformly(1u << body.global_refinements);
-        result.patches.push_back(patch);
+        patches.push_back(patch);
         result.side_ids.push_back(ids);
       }
 
@@ -112,11 +114,12 @@ namespace isoimpact
               {{cell->active_cell_index(), 1 - f / 2},
                {cell->neighbor(f)->active_cell_index(), 1 - g / 2}});
           }
-    nurbs::refine_near_point(result.patches,
+    nurbs::refine_near_point(patches,
                              links,
                              body.refinement_center,
                              body.refinement_radius,
                              body.local_refinements);
+    result.patches = std::make_shared<const nurbs::MultiPatch<dim>>(patches);
     return result;
   }
 
@@ -128,7 +131,8 @@ namespace isoimpact
     const nurbs::PatchGeometry<dim> &geometry)
   {
     PatchSet result;
-    result.patches.push_back(geometry.patch);
+    result.patches = std::make_shared<const nurbs::MultiPatch<dim>>(
+      std::vector<nurbs::NURBSPatch<dim>>{geometry.patch});
     result.side_ids.emplace_back();
     for (unsigned int f = 0; f < 2 * dim; ++f)
       switch (geometry.side_kinds[f])
@@ -165,15 +169,27 @@ namespace isoimpact
 
   template <int dim>
   DiscretizationIGA<dim>::DiscretizationIGA(const PatchSet &patch_set)
-    : patches(std::make_shared<const nurbs::MultiPatch<dim>>(patch_set.patches))
+    : Discretization<dim>(FE_NURBS<dim>(patch_set.patches),
+                          std::make_unique<MappingNURBS<dim>>(
+                            patch_set.patches),
+                          quadrature_size(*patch_set.patches))
+    , shared_patches(patch_set.patches)
     , side_ids(patch_set.side_ids)
-    , fe(FE_NURBS<dim>(patches), dim)
-    , mapping(patches)
-    , cell_quadrature(quadrature_size(*patches))
   {
     make_mesh();
-    dof_handler.reinit(triangulation);
-    dof_handler.distribute_dofs(fe);
+    this->dofs.reinit(this->mesh);
+    this->dofs.distribute_dofs(this->fe());
+
+    const types::global_dof_index n_unknowns =
+      types::global_dof_index(dim) * patches().n_control_points();
+    std::vector<Point<dim>>    positions(n_unknowns);
+    std::vector<unsigned char> components(n_unknowns);
+    for (types::global_dof_index i = 0; i < n_unknowns; ++i)
+      {
+        positions[i]  = patches().control_points()[i / dim];
+        components[i] = i % dim;
+      }
+    this->set_unknowns(std::move(positions), std::move(components));
   }
 
 
@@ -188,9 +204,9 @@ namespace isoimpact
     std::vector<CellData<dim>> cells;
     std::vector<unsigned int>  cell_elements;
     double                     extent = 0.;
-    for (unsigned int p = 0; p < patches->n_patches(); ++p)
+    for (unsigned int p = 0; p < patches().n_patches(); ++p)
       {
-        const auto        &patch      = patches->patch(p);
+        const auto        &patch      = patches().patch(p);
         const auto         n_elements = patch.n_elements_per_direction();
         const unsigned int offset     = vertices.size();
         std::array<std::vector<double>, dim> breakpoints;
@@ -211,7 +227,7 @@ namespace isoimpact
             cell.vertices[2] = v0 + n_elements[0] + 1;
             cell.vertices[3] = v0 + n_elements[0] + 2;
             cells.push_back(cell);
-            cell_elements.push_back(patches->global_element(p, e));
+            cell_elements.push_back(patches().global_element(p, e));
           }
       }
     for (const auto &x : vertices)
@@ -232,9 +248,9 @@ namespace isoimpact
       element_of_vertices[std::vector<unsigned int>(cells[c].vertices.begin(),
                                                     cells[c].vertices.end())] =
         cell_elements[c];
-    triangulation.create_triangulation(vertices, cells, no_subcell_data);
+    this->mesh.create_triangulation(vertices, cells, no_subcell_data);
 
-    for (const auto &cell : triangulation.active_cell_iterators())
+    for (const auto &cell : this->mesh.active_cell_iterators())
       {
         std::vector<unsigned int> key;
         for (const unsigned int v : cell->vertex_indices())
@@ -245,9 +261,9 @@ namespace isoimpact
                                "triangulation; the patches are not "
                                "consistently oriented"));
         cell->set_user_index(found->second);
-        const auto [p, e]    = patches->local_element(found->second);
-        const auto index     = patches->patch(p).element_multi_index(e);
-        const auto n_per_dir = patches->patch(p).n_elements_per_direction();
+        const auto [p, e]    = patches().local_element(found->second);
+        const auto index     = patches().patch(p).element_multi_index(e);
+        const auto n_per_dir = patches().patch(p).n_elements_per_direction();
         for (unsigned int f = 0; f < 2 * dim; ++f)
           if (cell->face(f)->at_boundary())
             {
@@ -268,54 +284,12 @@ namespace isoimpact
   std::string
   DiscretizationIGA<dim>::name() const
   {
-    return "IGA, " + fe.get_name() + " on " +
-           std::to_string(patches->n_patches()) + " patch" +
-           (patches->n_patches() > 1 ? "es, " : ", ") +
-           std::to_string(patches->n_elements()) + " knot spans, " +
-           std::to_string(patches->n_control_points()) +
+    return "IGA, " + this->fe().get_name() + " on " +
+           std::to_string(patches().n_patches()) + " patch" +
+           (patches().n_patches() > 1 ? "es, " : ", ") +
+           std::to_string(patches().n_elements()) + " knot spans, " +
+           std::to_string(patches().n_control_points()) +
            " control points, MappingNURBS";
-  }
-
-  template <int dim>
-  const Triangulation<dim> &
-  DiscretizationIGA<dim>::get_triangulation() const
-  {
-    return triangulation;
-  }
-
-  template <int dim>
-  const Mapping<dim> &
-  DiscretizationIGA<dim>::get_mapping() const
-  {
-    return mapping;
-  }
-
-  template <int dim>
-  const FiniteElement<dim> &
-  DiscretizationIGA<dim>::get_fe() const
-  {
-    return fe;
-  }
-
-  template <int dim>
-  const DoFHandler<dim> &
-  DiscretizationIGA<dim>::get_dof_handler() const
-  {
-    return dof_handler;
-  }
-
-  template <int dim>
-  const Quadrature<dim> &
-  DiscretizationIGA<dim>::get_cell_quadrature() const
-  {
-    return cell_quadrature;
-  }
-
-  template <int dim>
-  types::global_dof_index
-  DiscretizationIGA<dim>::n_dofs() const
-  {
-    return types::global_dof_index(dim) * patches->n_control_points();
   }
 
   template <int dim>
@@ -325,37 +299,16 @@ namespace isoimpact
     std::vector<types::global_dof_index> &indices) const
   {
     thread_local std::vector<unsigned int> control_points;
-    patches->element_control_points(cell->user_index(), control_points);
-    indices.resize(fe.n_dofs_per_cell());
+    patches().element_control_points(cell->user_index(), control_points);
+    indices.resize(this->fe().n_dofs_per_cell());
     for (unsigned int i = 0; i < indices.size(); ++i)
       {
-        const auto component_and_function = fe.system_to_component_index(i);
-        indices[i]                        = types::global_dof_index(dim) *
+        const auto component_and_function =
+          this->fe().system_to_component_index(i);
+        indices[i] = types::global_dof_index(dim) *
                        control_points[component_and_function.second] +
                      component_and_function.first;
       }
-  }
-
-  template <int dim>
-  unsigned int
-  DiscretizationIGA<dim>::dof_component(const types::global_dof_index dof) const
-  {
-    return dof % dim;
-  }
-
-  template <int dim>
-  Point<dim>
-  DiscretizationIGA<dim>::dof_position(const types::global_dof_index dof) const
-  {
-    return patches->control_points()[dof / dim];
-  }
-
-  template <int dim>
-  void
-  DiscretizationIGA<dim>::make_constraints(AffineConstraints<double> &) const
-  {
-    // Interfaces are glued by shared control points, no hanging nodes:
-    // nothing to constrain.
   }
 
   template <int dim>
@@ -368,14 +321,14 @@ namespace isoimpact
     AssertThrow(component < dim, ExcIndexRange(component, 0, dim));
     // The control points of a side alone define the side's curve (open knot
     // vectors), so fixing their component fixes it on the whole side.
-    for (unsigned int p = 0; p < patches->n_patches(); ++p)
+    for (unsigned int p = 0; p < patches().n_patches(); ++p)
       for (unsigned int f = 0; f < 2 * dim; ++f)
         if (side_ids[p][f] == boundary_id)
-          for (const unsigned int a : patches->patch(p).side_control_points(f))
+          for (const unsigned int a : patches().patch(p).side_control_points(f))
             {
               const types::global_dof_index dof =
                 types::global_dof_index(dim) *
-                  patches->global_control_point(p, a) +
+                  patches().global_control_point(p, a) +
                 component;
               if (!constraints.is_constrained(dof))
                 constraints.add_line(dof);
@@ -384,17 +337,15 @@ namespace isoimpact
 
   template <int dim>
   std::vector<BoundarySegment<dim>>
-  DiscretizationIGA<dim>::boundary_segments(
+  DiscretizationIGA<dim>::unmarked_boundary_segments(
     const types::boundary_id boundary_id) const
   {
-    AssertThrow(dim == 2,
-                ExcMessage("boundary segments are implemented for dim = 2"));
     std::vector<BoundarySegment<dim>> segments;
-    for (unsigned int p = 0; p < patches->n_patches(); ++p)
+    for (unsigned int p = 0; p < patches().n_patches(); ++p)
       for (unsigned int f = 0; f < 2 * dim; ++f)
         if (side_ids[p][f] == boundary_id)
           {
-            const auto        &patch   = patches->patch(p);
+            const auto        &patch   = patches().patch(p);
             const auto        &points  = patch.control_points();
             const auto        &weights = patch.weights();
             const unsigned int d = f / 2, s = f % 2;
@@ -424,7 +375,7 @@ namespace isoimpact
                     for (unsigned int c = 0; c < dim; ++c)
                       segment.node_dofs[l][c] =
                         types::global_dof_index(dim) *
-                          patches->global_control_point(p, a) +
+                          patches().global_control_point(p, a) +
                         c;
                     segment.node_positions[l] = points[a];
                     segment.node_weights[l]   = weights[a];
@@ -449,27 +400,7 @@ namespace isoimpact
                 segments.push_back(segment);
               }
           }
-    mark_free_segment_ends(*this, boundary_id, segments);
     return segments;
-  }
-
-  template <int dim>
-  void
-  DiscretizationIGA<dim>::to_dof_handler_vector(
-    const Vector<double> &unknowns,
-    Vector<double>       &dof_handler_vector) const
-  {
-    AssertDimension(unknowns.size(), n_dofs());
-    dof_handler_vector.reinit(dof_handler.n_dofs());
-    std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
-    std::vector<types::global_dof_index> global(fe.n_dofs_per_cell());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        cell->get_dof_indices(local);
-        get_dof_indices(cell, global);
-        for (unsigned int i = 0; i < local.size(); ++i)
-          dof_handler_vector[local[i]] = unknowns[global[i]];
-      }
   }
 
   template class DiscretizationIGA<2>;

@@ -21,13 +21,13 @@ namespace isoimpact
   {
     template <int dim>
     FiniteElementData<dim>
-    make_fe_data(const nurbs::MultiPatch<dim> &patch)
+    make_fe_data(const nurbs::MultiPatch<dim> &patches)
     {
       std::vector<unsigned int> dofs_per_object(dim + 1, 0);
-      dofs_per_object[dim] = patch.n_functions_per_element();
+      dofs_per_object[dim] = patches.n_functions_per_element();
       unsigned int degree  = 0;
       for (unsigned int d = 0; d < dim; ++d)
-        degree = std::max(degree, patch.degree(d));
+        degree = std::max(degree, patches.degree(d));
       return FiniteElementData<dim>(dofs_per_object,
                                     1,
                                     degree,
@@ -36,10 +36,10 @@ namespace isoimpact
 
     template <int dim>
     const nurbs::MultiPatch<dim> &
-    checked(const std::shared_ptr<const nurbs::MultiPatch<dim>> &patch)
+    checked(const std::shared_ptr<const nurbs::MultiPatch<dim>> &patches)
     {
-      AssertThrow(patch != nullptr, ExcMessage("FE_NURBS: no patch given"));
-      return *patch;
+      AssertThrow(patches != nullptr, ExcMessage("FE_NURBS: no patch given"));
+      return *patches;
     }
   } // namespace
 
@@ -55,13 +55,13 @@ namespace isoimpact
 
   template <int dim>
   FE_NURBS<dim>::FE_NURBS(
-    const std::shared_ptr<const nurbs::MultiPatch<dim>> &patch)
+    const std::shared_ptr<const nurbs::MultiPatch<dim>> &patches)
     : FiniteElement<dim>(
-        make_fe_data(checked(patch)),
-        std::vector<bool>(patch->n_functions_per_element(), true),
-        std::vector<ComponentMask>(patch->n_functions_per_element(),
+        make_fe_data(checked(patches)),
+        std::vector<bool>(patches->n_functions_per_element(), true),
+        std::vector<ComponentMask>(patches->n_functions_per_element(),
                                    ComponentMask(1, true)))
-    , patch(patch)
+    , shared_patches(patches)
   {}
 
 
@@ -72,7 +72,7 @@ namespace isoimpact
   {
     std::string name = "FE_NURBS<" + std::to_string(dim) + ">(";
     for (unsigned int d = 0; d < dim; ++d)
-      name += (d > 0 ? "," : "") + std::to_string(patch->degree(d));
+      name += (d > 0 ? "," : "") + std::to_string(shared_patches->degree(d));
     return name + ")";
   }
 
@@ -181,11 +181,11 @@ namespace isoimpact
       &output_data) const
   {
     const unsigned int element = cell->user_index();
-    AssertThrow(element < patch->n_elements(),
-                ExcMessage("FE_NURBS: the cell's user_index " +
-                           std::to_string(element) +
-                           " is not an element of the patches (0 to " +
-                           std::to_string(patch->n_elements()) + "-1)"));
+    AssertThrow(element < shared_patches->n_elements(),
+                ExcMessage(
+                  "FE_NURBS: the cell's user_index " + std::to_string(element) +
+                  " is not an element of the patches (0 to " +
+                  std::to_string(shared_patches->n_elements()) + "-1)"));
     const UpdateFlags  flags    = data.update_each;
     const unsigned int n_points = points.size();
     const unsigned int n_shape  = this->n_dofs_per_cell();
@@ -195,10 +195,10 @@ namespace isoimpact
 
     for (unsigned int q = 0; q < n_points; ++q)
       {
-        patch->element_rational_basis(element,
-                                      points[q],
-                                      data.values,
-                                      data.gradients);
+        shared_patches->element_rational_basis(element,
+                                               points[q],
+                                               data.values,
+                                               data.gradients);
         if (flags & update_values)
           for (unsigned int i = 0; i < n_shape; ++i)
             output_data.shape_values(i, q) = data.values[i];

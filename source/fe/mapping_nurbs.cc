@@ -23,14 +23,14 @@ namespace isoimpact
     template <int dim>
     unsigned int
     element_of(const typename Triangulation<dim>::cell_iterator &cell,
-               const nurbs::MultiPatch<dim>                     &patch)
+               const nurbs::MultiPatch<dim>                     &patches)
     {
       const unsigned int element = cell->user_index();
-      AssertThrow(element < patch.n_elements(),
+      AssertThrow(element < patches.n_elements(),
                   ExcMessage("MappingNURBS: the cell's user_index " +
                              std::to_string(element) +
                              " is not an element of the patches (0 to " +
-                             std::to_string(patch.n_elements()) + "-1)"));
+                             std::to_string(patches.n_elements()) + "-1)"));
       return element;
     }
   } // namespace
@@ -73,10 +73,10 @@ namespace isoimpact
 
   template <int dim>
   MappingNURBS<dim>::MappingNURBS(
-    const std::shared_ptr<const nurbs::MultiPatch<dim>> &patch)
-    : patch(patch)
+    const std::shared_ptr<const nurbs::MultiPatch<dim>> &patches)
+    : shared_patches(patches)
   {
-    AssertThrow(patch != nullptr, ExcMessage("MappingNURBS: no patch given"));
+    AssertThrow(patches != nullptr, ExcMessage("MappingNURBS: no patch given"));
   }
 
 
@@ -85,7 +85,7 @@ namespace isoimpact
   std::unique_ptr<Mapping<dim>>
   MappingNURBS<dim>::clone() const
   {
-    return std::make_unique<MappingNURBS<dim>>(patch);
+    return std::make_unique<MappingNURBS<dim>>(shared_patches);
   }
 
 
@@ -108,12 +108,12 @@ namespace isoimpact
                               Point<dim>         &x,
                               Tensor<2, dim>     &jacobian) const
   {
-    patch->element_control_points(element, data.control_points);
-    patch->element_rational_basis(element,
-                                  unit_point,
-                                  data.values,
-                                  data.gradients);
-    const auto &points = patch->control_points();
+    shared_patches->element_control_points(element, data.control_points);
+    shared_patches->element_rational_basis(element,
+                                           unit_point,
+                                           data.values,
+                                           data.gradients);
+    const auto &points = shared_patches->control_points();
     x                  = Point<dim>();
     jacobian           = Tensor<2, dim>();
     for (unsigned int a = 0; a < data.values.size(); ++a)
@@ -157,7 +157,7 @@ namespace isoimpact
     InternalData   data;
     Point<dim>     x;
     Tensor<2, dim> jacobian;
-    evaluate(element_of<dim>(cell, *patch), p, data, x, jacobian);
+    evaluate(element_of<dim>(cell, *shared_patches), p, data, x, jacobian);
     return x;
   }
 
@@ -169,7 +169,7 @@ namespace isoimpact
     const typename Triangulation<dim>::cell_iterator &cell,
     const Point<dim>                                 &p) const
   {
-    const unsigned int element = element_of<dim>(cell, *patch);
+    const unsigned int element = element_of<dim>(cell, *shared_patches);
     InternalData       data;
     Point<dim>         xi;
     for (unsigned int d = 0; d < dim; ++d)
@@ -272,7 +272,7 @@ namespace isoimpact
     internal::FEValuesImplementation::MappingRelatedData<dim, dim> &output_data)
     const
   {
-    const unsigned int element = element_of<dim>(cell, *patch);
+    const unsigned int element = element_of<dim>(cell, *shared_patches);
     const UpdateFlags  flags   = data.update_each;
     if (data.jacobians.size() < points.size())
       data.resize(points.size());

@@ -53,7 +53,7 @@ namespace isoimpact
     DynamicSparsityPattern               dsp(discretization.n_dofs());
     std::vector<types::global_dof_index> indices;
     for (const auto &cell :
-         discretization.get_dof_handler().active_cell_iterators())
+         discretization.dof_handler().active_cell_iterators())
       {
         discretization.get_dof_indices(cell, indices);
         constraints.add_entries_local_to_global(indices, dsp, false);
@@ -73,17 +73,17 @@ namespace isoimpact
                     SparseMatrix<double>            &matrix,
                     const LocalAssembler            &local)
     {
-      const auto        &fe = discretization.get_fe();
-      FEValues<dim>      fe_values(discretization.get_mapping(),
+      const auto                          &fe = discretization.fe();
+      FEValues<dim>                        fe_values(discretization.mapping(),
                               fe,
-                              discretization.get_cell_quadrature(),
+                              discretization.cell_quadrature(),
                               flags | update_JxW_values);
-      FullMatrix<double> cell_matrix(fe.n_dofs_per_cell(),
+      FullMatrix<double>                   cell_matrix(fe.n_dofs_per_cell(),
                                      fe.n_dofs_per_cell());
       std::vector<types::global_dof_index> indices;
       matrix = 0.;
       for (const auto &cell :
-           discretization.get_dof_handler().active_cell_iterators())
+           discretization.dof_handler().active_cell_iterators())
         {
           fe_values.reinit(cell);
           cell_matrix = 0.;
@@ -172,10 +172,10 @@ namespace isoimpact
   {
     AssertThrow(scheme != MassScheme::consistent,
                 ExcMessage("assemble_lumped_mass needs row-sum or HRZ"));
-    const auto                          &fe = discretization.get_fe();
-    FEValues<dim>                        fe_values(discretization.get_mapping(),
+    const auto                          &fe = discretization.fe();
+    FEValues<dim>                        fe_values(discretization.mapping(),
                             fe,
-                            discretization.get_cell_quadrature(),
+                            discretization.cell_quadrature(),
                             update_values | update_JxW_values);
     const unsigned int                   n = fe.n_dofs_per_cell();
     FullMatrix<double>                   cell_matrix(n, n);
@@ -183,7 +183,7 @@ namespace isoimpact
     Vector<double>                       lumped(discretization.n_dofs());
     std::vector<types::global_dof_index> indices;
     for (const auto &cell :
-         discretization.get_dof_handler().active_cell_iterators())
+         discretization.dof_handler().active_cell_iterators())
       {
         fe_values.reinit(cell);
         cell_matrix = 0.;
@@ -254,13 +254,13 @@ namespace isoimpact
   integrate_mass(const Discretization<dim> &discretization,
                  const double               density)
   {
-    FEValues<dim> fe_values(discretization.get_mapping(),
-                            discretization.get_fe(),
-                            discretization.get_cell_quadrature(),
+    FEValues<dim> fe_values(discretization.mapping(),
+                            discretization.fe(),
+                            discretization.cell_quadrature(),
                             update_JxW_values);
     double        mass = 0.;
     for (const auto &cell :
-         discretization.get_dof_handler().active_cell_iterators())
+         discretization.dof_handler().active_cell_iterators())
       {
         fe_values.reinit(cell);
         for (const unsigned int q : fe_values.quadrature_point_indices())
@@ -277,17 +277,17 @@ namespace isoimpact
     const AffineConstraints<double>                         &constraints,
     Vector<double>                                          &rhs)
   {
-    const auto                          &fe = discretization.get_fe();
-    FEValues<dim>                        fe_values(discretization.get_mapping(),
+    const auto                          &fe = discretization.fe();
+    FEValues<dim>                        fe_values(discretization.mapping(),
                             fe,
-                            discretization.get_cell_quadrature(),
+                            discretization.cell_quadrature(),
                             update_values | update_quadrature_points |
                               update_JxW_values);
     Vector<double>                       cell_rhs(fe.n_dofs_per_cell());
     std::vector<types::global_dof_index> indices;
     rhs.reinit(discretization.n_dofs());
     for (const auto &cell :
-         discretization.get_dof_handler().active_cell_iterators())
+         discretization.dof_handler().active_cell_iterators())
       {
         fe_values.reinit(cell);
         cell_rhs = 0.;

@@ -41,6 +41,28 @@ namespace isoimpact
           result = result * (n - k + i) / i;
         return result;
       }
+
+      // A refinement of `old` with its matrix T: `transform(coefficients,
+      // n_components)` (a coefficient version of the refinement) applied to
+      // the identity, whose columns then hold T.
+      template <typename CoefficientTransform>
+      KnotVector::Refinement
+      refinement_with_matrix(const KnotVector           &old,
+                             const CoefficientTransform &transform)
+      {
+        const unsigned int  n_old = old.n_basis_functions();
+        std::vector<double> identity(n_old * n_old, 0.);
+        for (unsigned int i = 0; i < n_old; ++i)
+          identity[i * n_old + i] = 1.;
+        KnotVector::Refinement result;
+        result.knot_vector       = transform(identity, n_old);
+        const unsigned int n_new = result.knot_vector.n_basis_functions();
+        result.matrix.reinit(n_new, n_old);
+        for (unsigned int j = 0; j < n_new; ++j)
+          for (unsigned int i = 0; i < n_old; ++i)
+            result.matrix(j, i) = identity[j * n_old + i];
+        return result;
+      }
     } // namespace
 
     KnotVector::KnotVector(const std::vector<double> &knots,
@@ -368,21 +390,30 @@ namespace isoimpact
     void
     KnotVector::bernstein_values(const unsigned int p,
                                  const double       t,
-                                 double            *values)
+                                 double            *values,
+                                 double            *derivatives)
     {
       // de Casteljau-like recursion B^j_i = (1-t) B^{j-1}_i + t B^{j-1}_{i-1}.
+      const auto raise_degree = [values, t](const unsigned int j) {
+        double saved = 0.;
+        for (unsigned int i = 0; i < j; ++i)
+          {
+            const double temp = values[i];
+            values[i]         = saved + (1. - t) * temp;
+            saved             = t * temp;
+          }
+        values[j] = saved;
+      };
       values[0] = 1.;
-      for (unsigned int j = 1; j <= p; ++j)
-        {
-          double saved = 0.;
-          for (unsigned int i = 0; i < j; ++i)
-            {
-              const double temp = values[i];
-              values[i]         = saved + (1. - t) * temp;
-              saved             = t * temp;
-            }
-          values[j] = saved;
-        }
+      for (unsigned int j = 1; j < p; ++j)
+        raise_degree(j);
+      // dB^p_i/dt = p (B^{p-1}_{i-1} - B^{p-1}_i), from degree p-1.
+      if (derivatives != nullptr)
+        for (unsigned int i = 0; i <= p; ++i)
+          derivatives[i] =
+            p * ((i > 0 ? values[i - 1] : 0.) - (i < p ? values[i] : 0.));
+      if (p > 0)
+        raise_degree(p);
     }
 
 
@@ -556,18 +587,10 @@ namespace isoimpact
     KnotVector::Refinement
     KnotVector::insert_knots(const std::vector<double> &new_knots) const
     {
-      const unsigned int  n_old = n_basis_functions();
-      std::vector<double> identity(n_old * n_old, 0.);
-      for (unsigned int i = 0; i < n_old; ++i)
-        identity[i * n_old + i] = 1.;
-      Refinement result;
-      result.knot_vector       = insert_knots(new_knots, identity, n_old);
-      const unsigned int n_new = result.knot_vector.n_basis_functions();
-      result.matrix.reinit(n_new, n_old);
-      for (unsigned int j = 0; j < n_new; ++j)
-        for (unsigned int i = 0; i < n_old; ++i)
-          result.matrix(j, i) = identity[j * n_old + i];
-      return result;
+      const auto transform = [&](auto &coefficients, auto n_components) {
+        return insert_knots(new_knots, coefficients, n_components);
+      };
+      return refinement_with_matrix(*this, transform);
     }
 
 
@@ -661,18 +684,10 @@ namespace isoimpact
     KnotVector::Refinement
     KnotVector::elevate_degree(const unsigned int times) const
     {
-      const unsigned int  n_old = n_basis_functions();
-      std::vector<double> identity(n_old * n_old, 0.);
-      for (unsigned int i = 0; i < n_old; ++i)
-        identity[i * n_old + i] = 1.;
-      Refinement result;
-      result.knot_vector       = elevate_degree(times, identity, n_old);
-      const unsigned int n_new = result.knot_vector.n_basis_functions();
-      result.matrix.reinit(n_new, n_old);
-      for (unsigned int j = 0; j < n_new; ++j)
-        for (unsigned int i = 0; i < n_old; ++i)
-          result.matrix(j, i) = identity[j * n_old + i];
-      return result;
+      const auto transform = [&](auto &coefficients, auto n_components) {
+        return elevate_degree(times, coefficients, n_components);
+      };
+      return refinement_with_matrix(*this, transform);
     }
   } // namespace nurbs
 } // namespace isoimpact

@@ -87,8 +87,8 @@ namespace isoimpact
     for (const auto *body : bodies)
       {
         const auto    &disc = body->discretization();
-        Vector<double> displacement(disc.get_dof_handler().n_dofs());
-        Vector<double> velocity(disc.get_dof_handler().n_dofs());
+        Vector<double> displacement(disc.dof_handler().n_dofs());
+        Vector<double> velocity(disc.dof_handler().n_dofs());
         disc.to_dof_handler_vector(body->displacement, displacement);
         disc.to_dof_handler_vector(body->velocity, velocity);
 
@@ -99,7 +99,7 @@ namespace isoimpact
             DataComponentInterpretation::component_is_part_of_vector);
         StressPostprocessor stresses(body->material());
         DataOut<2>          data_out;
-        data_out.attach_dof_handler(disc.get_dof_handler());
+        data_out.attach_dof_handler(disc.dof_handler());
         data_out.add_data_vector(displacement,
                                  std::vector<std::string>(2, "displacement_m"),
                                  DataOut<2>::type_dof_data,
@@ -110,7 +110,7 @@ namespace isoimpact
                                  DataOut<2>::type_dof_data,
                                  vector_field);
         data_out.add_data_vector(displacement, stresses);
-        data_out.build_patches(disc.get_mapping(),
+        data_out.build_patches(disc.mapping(),
                                n_subdivisions,
                                DataOut<2>::curved_inner_cells);
         DataOutBase::VtkFlags flags(time);

@@ -279,11 +279,11 @@ namespace isoimpact
     prm.leave_subsection();
 
     prm.enter_subsection("Discretization");
-    method                    = prm.get("Method");
-    fea_element               = fea_element_from_string(prm.get("FEA element"));
-    degree                    = prm.get_integer("Degree");
-    const unsigned int global = prm.get_integer("Global refinements");
-    const unsigned int local  = prm.get_integer("Local refinements");
+    method      = discretization_method_from_string(prm.get("Method"));
+    fea_element = fea_element_from_string(prm.get("FEA element"));
+    degree      = prm.get_integer("Degree");
+    const unsigned int global  = prm.get_integer("Global refinements");
+    const unsigned int local   = prm.get_integer("Local refinements");
     const auto   center_values = parse_doubles(prm.get("Refinement center"));
     const double refine_radius = prm.get_double("Refinement radius");
     prm.leave_subsection();
@@ -404,12 +404,13 @@ namespace isoimpact
         }
     };
     require(parameters.fea_element == FEAElement::lagrange ||
-              (parameters.method == "fea" && parameters.degree == 2),
+              (parameters.method == DiscretizationMethod::fea &&
+               parameters.degree == 2),
             "Discretization/FEA element",
             to_string(parameters.fea_element),
             "serendipity needs Method = fea and Degree = 2 (here " +
-              parameters.method + ", " + std::to_string(parameters.degree) +
-              ")");
+              to_string(parameters.method) + ", " +
+              std::to_string(parameters.degree) + ")");
     require(parameters.fea_element == FEAElement::lagrange ||
               parameters.mass_scheme != MassScheme::row_sum,
             "Mass matrix/Scheme",

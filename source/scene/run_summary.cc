@@ -223,7 +223,7 @@ namespace isoimpact
     summary["cells"]          = nlohmann::ordered_json::array();
     for (const auto &body : scene.bodies)
       summary["cells"].push_back(
-        body->discretization().get_triangulation().n_active_cells());
+        body->discretization().triangulation().n_active_cells());
     summary["vtu_subdivisions"]              = parameters.vtu_subdivisions;
     summary["time_step_s"]                   = parameters.time_step;
     summary["critical_time_step_estimate_s"] = critical_time_step;

@@ -4,10 +4,6 @@
 #ifndef isoimpact_discretization_iga_h
 #define isoimpact_discretization_iga_h
 
-#include <deal.II/base/quadrature_lib.h>
-
-#include <deal.II/fe/fe_system.h>
-
 #include <isoimpact/discretization/discretization.h>
 #include <isoimpact/fe/fe_nurbs.h>
 #include <isoimpact/fe/mapping_nurbs.h>
@@ -67,55 +63,34 @@ namespace isoimpact
 
     std::string
     name() const override;
-    const dealii::Triangulation<dim> &
-    get_triangulation() const override;
-    const dealii::Mapping<dim> &
-    get_mapping() const override;
-    const dealii::FiniteElement<dim> &
-    get_fe() const override;
-    const dealii::DoFHandler<dim> &
-    get_dof_handler() const override;
-    const dealii::Quadrature<dim> &
-    get_cell_quadrature() const override;
-    dealii::types::global_dof_index
-    n_dofs() const override;
+
+    // Interleaved: dim * (global control point) + component.
     void
     get_dof_indices(
       const cell_iterator                          &cell,
       std::vector<dealii::types::global_dof_index> &indices) const override;
-    unsigned int
-    dof_component(const dealii::types::global_dof_index dof) const override;
-    dealii::Point<dim>
-    dof_position(const dealii::types::global_dof_index dof) const override;
-    void
-    make_constraints(
-      dealii::AffineConstraints<double> &constraints) const override;
+
+    // Fixes the component of the control points of the boundary's patch
+    // sides (they alone define the side's curve).
     void
     constrain_component_on_boundary(
       const dealii::types::boundary_id   boundary_id,
       const unsigned int                 component,
       dealii::AffineConstraints<double> &constraints) const override;
-    std::vector<BoundarySegment<dim>>
-    boundary_segments(
-      const dealii::types::boundary_id boundary_id) const override;
-    void
-    to_dof_handler_vector(
-      const dealii::Vector<double> &unknowns,
-      dealii::Vector<double>       &dof_handler_vector) const override;
 
     // The patches with their global control point numbering.
     const nurbs::MultiPatch<dim> &
-    get_patch() const
+    patches() const
     {
-      return *patches;
+      return *shared_patches;
     }
 
   private:
-    // Patches and the boundary id of each of their sides
-    // (numbers::internal_face_boundary_id on interfaces).
+    // Patches glued into a MultiPatch and the boundary id of each of their
+    // sides (numbers::internal_face_boundary_id on interfaces).
     struct PatchSet
     {
-      std::vector<nurbs::NURBSPatch<dim>>                          patches;
+      std::shared_ptr<const nurbs::MultiPatch<dim>>                patches;
       std::vector<std::array<dealii::types::boundary_id, 2 * dim>> side_ids;
     };
 
@@ -127,16 +102,18 @@ namespace isoimpact
     static PatchSet
     make_patches(const nurbs::PatchGeometry<dim> &patch_geometry);
 
+    // One segment per knot span of a boundary side: the span's control
+    // points as nodes, its Bezier extraction rows as Bernstein coefficients.
+    std::vector<BoundarySegment<dim>>
+    unmarked_boundary_segments(
+      const dealii::types::boundary_id boundary_id) const override;
+
     void
     make_mesh();
 
-    std::shared_ptr<const nurbs::MultiPatch<dim>>                patches;
+    // Shared with FE_NURBS and MappingNURBS.
+    std::shared_ptr<const nurbs::MultiPatch<dim>>                shared_patches;
     std::vector<std::array<dealii::types::boundary_id, 2 * dim>> side_ids;
-    dealii::Triangulation<dim>                                   triangulation;
-    dealii::FESystem<dim>                                        fe;
-    MappingNURBS<dim>                                            mapping;
-    dealii::QGauss<dim>     cell_quadrature;
-    dealii::DoFHandler<dim> dof_handler;
   };
 } // namespace isoimpact
 

@@ -51,9 +51,9 @@ namespace isoimpact
       const std::shared_ptr<const nurbs::NURBSPatch<dim>> &patch);
 
     const nurbs::MultiPatch<dim> &
-    get_patch() const
+    patches() const
     {
-      return *patch;
+      return *shared_patches;
     }
 
     std::string
@@ -165,7 +165,7 @@ namespace isoimpact
                                                                          dim>
         &output_data) const;
 
-    std::shared_ptr<const nurbs::MultiPatch<dim>> patch;
+    std::shared_ptr<const nurbs::MultiPatch<dim>> shared_patches;
   };
 } // namespace isoimpact
 

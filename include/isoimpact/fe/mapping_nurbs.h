@@ -47,9 +47,9 @@ namespace isoimpact
       const std::shared_ptr<const nurbs::NURBSPatch<dim>> &patch);
 
     const nurbs::MultiPatch<dim> &
-    get_patch() const
+    patches() const
     {
-      return *patch;
+      return *shared_patches;
     }
 
     std::unique_ptr<dealii::Mapping<dim>>
@@ -208,7 +208,7 @@ namespace isoimpact
       dealii::internal::FEValuesImplementation::MappingRelatedData<dim, dim>
         &output_data) const;
 
-    std::shared_ptr<const nurbs::MultiPatch<dim>> patch;
+    std::shared_ptr<const nurbs::MultiPatch<dim>> shared_patches;
   };
 } // namespace isoimpact
 

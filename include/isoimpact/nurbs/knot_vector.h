@@ -181,9 +181,16 @@ namespace isoimpact
       std::vector<dealii::FullMatrix<double>>
       extraction_operators() const;
 
-      // The p+1 Bernstein polynomials of degree p at t (room for p+1 values).
+      /**
+       * The p+1 Bernstein polynomials of degree p at t in [0,1] and, if
+       * `derivatives` is given, their derivatives d/dt (room for p+1 values
+       * each). The one Bernstein evaluator of the library.
+       */
       static void
-      bernstein_values(const unsigned int p, const double t, double *values);
+      bernstein_values(const unsigned int p,
+                       const double       t,
+                       double            *values,
+                       double            *derivatives = nullptr);
 
       /**
        * Result of a refinement of the basis: the new knot vector and the

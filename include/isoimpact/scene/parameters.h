@@ -67,9 +67,9 @@ namespace isoimpact
     }
 
     // Discretization
-    std::string  method      = "fea";
-    FEAElement   fea_element = FEAElement::lagrange;
-    unsigned int degree      = 2;
+    DiscretizationMethod method      = DiscretizationMethod::fea;
+    FEAElement           fea_element = FEAElement::lagrange;
+    unsigned int         degree      = 2;
 
     MassScheme      mass_scheme = MassScheme::hrz;
     ContactSettings contact;
