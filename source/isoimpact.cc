@@ -229,10 +229,9 @@ namespace isoimpact
     const auto  &result = integrator->contact_results()[0];
     const double factor = scene.symmetry_factor;
 
-    AssertThrow(std::isfinite(result.force_on_first_surface.norm()),
+    AssertThrow(std::isfinite(result.force_on_body_0.norm()),
                 ExcMessage(unstable_message()));
-    current_force =
-      factor * (result.force_on_first_surface * scene.impact_direction);
+    current_force = factor * (result.force_on_body_0 * scene.impact_direction);
     current_pressure = result.max_pressure;
     if (current_force > peak_force)
       {
@@ -327,7 +326,7 @@ namespace isoimpact
     for (const auto &point : points)
       {
         const double s = point.reference_position * across;
-        out << s << ',' << point.pressure << ',' << point.slave_surface + 1;
+        out << s << ',' << point.pressure << ',' << point.body + 1;
         if (scene.reference)
           out << ',' << scene.reference->pressure(force, s);
         out << '\n';
