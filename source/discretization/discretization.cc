@@ -201,26 +201,6 @@ namespace isoimpact
       }
   }
 
-  FEAElement
-  fea_element_from_string(const std::string &name)
-  {
-    if (name == "lagrange")
-      return FEAElement::lagrange;
-    if (name == "serendipity")
-      return FEAElement::serendipity;
-    AssertThrow(false,
-                ExcMessage("unknown FEA element '" + name +
-                           "': allowed are 'lagrange' (FE_Q) and "
-                           "'serendipity' (8-node Q8, degree 2 only)"));
-    return FEAElement::lagrange;
-  }
-
-  std::string
-  to_string(const FEAElement element)
-  {
-    return element == FEAElement::serendipity ? "serendipity" : "lagrange";
-  }
-
   template <int dim>
   std::unique_ptr<Discretization<dim>>
   create_discretization(const std::string  &kind,

@@ -20,19 +20,6 @@ namespace isoimpact
   namespace bg  = boost::geometry;
   namespace bgi = boost::geometry::index;
 
-  PenaltyPerPass
-  penalty_per_pass_from_string(const std::string &name)
-  {
-    if (name == "half")
-      return PenaltyPerPass::half;
-    if (name == "full")
-      return PenaltyPerPass::full;
-    AssertThrow(false,
-                ExcMessage("unknown penalty per pass '" + name +
-                           "': allowed are half, full"));
-    return PenaltyPerPass::half;
-  }
-
   template <int dim>
   std::vector<SurfaceQuadraturePoint<dim>>
   surface_quadrature(const std::vector<BoundarySegment<dim>> &segments,

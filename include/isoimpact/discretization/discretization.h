@@ -20,6 +20,8 @@
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include <isoimpact/nurbs/enum_names.h>
+
 #include <array>
 #include <memory>
 #include <string>
@@ -238,11 +240,17 @@ namespace isoimpact
     serendipity
   };
 
-  // "lagrange" or "serendipity"; anything else throws.
-  FEAElement
-  fea_element_from_string(const std::string &name);
-  std::string
-  to_string(const FEAElement element);
+  // "lagrange" or "serendipity".
+  inline constexpr EnumNames<FEAElement, 2> fea_element_names{
+    "FEA element",
+    {{{FEAElement::lagrange, "lagrange"},
+      {FEAElement::serendipity, "serendipity"}}}};
+
+  inline std::string
+  to_string(const FEAElement element)
+  {
+    return fea_element_names.to_string(element);
+  }
 
   /**
    * The factory of layer 3: `kind` is "fea" (FE_Q of the given degree, or

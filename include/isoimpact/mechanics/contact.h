@@ -18,6 +18,7 @@
 #include <deal.II/base/tensor.h>
 
 #include <isoimpact/discretization/discretization.h>
+#include <isoimpact/nurbs/enum_names.h>
 
 #include <array>
 #include <string>
@@ -31,8 +32,10 @@ namespace isoimpact
     full
   };
 
-  PenaltyPerPass
-  penalty_per_pass_from_string(const std::string &name);
+  // "half" or "full".
+  inline constexpr EnumNames<PenaltyPerPass, 2> penalty_per_pass_names{
+    "penalty per pass",
+    {{{PenaltyPerPass::half, "half"}, {PenaltyPerPass::full, "full"}}}};
 
   struct ContactSettings
   {
