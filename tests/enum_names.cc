@@ -9,8 +9,8 @@
 #include <isoimpact/nurbs/geometries.h>
 #include <isoimpact/scene/hertz_reference.h>
 
-#include <cctype>
 #include <exception>
+#include <sstream>
 #include <string>
 
 #include "tests.h"
@@ -49,12 +49,10 @@ namespace
       }
     catch (const std::exception &exception)
       {
-        std::string message;
-        for (const char c : std::string(exception.what()))
-          if (!std::isspace(static_cast<unsigned char>(c)))
-            message += c;
-          else if (!message.empty() && message.back() != ' ')
-            message += ' ';
+        std::istringstream words(exception.what());
+        std::string        word, message;
+        while (words >> word)
+          message += (message.empty() ? "" : " ") + word;
         return message;
       }
     return "";
