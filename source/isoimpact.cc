@@ -193,13 +193,13 @@ namespace isoimpact
   ImpactProgram::record(const bool write_solution, const bool write_profile)
   {
     const auto &result = integrator->contact_results()[0];
-    AssertThrow(std::isfinite(result.force_on_first_surface.norm()),
+    AssertThrow(std::isfinite(result.force_on_body_0.norm()),
                 ExcMessage(unstable_message()));
     StepRecord step;
     step.time = integrator->time();
     step.contact_force =
       scene.symmetry_factor *
-      (result.force_on_first_surface * scene.impact_direction);
+      (result.force_on_body_0 * scene.impact_direction);
     step.max_pressure = result.max_pressure;
     step.in_contact   = result.n_active_points > 0;
 

@@ -555,7 +555,7 @@ main()
       std::string message;
       try
         {
-          create_discretization<2>(discretization_method_from_string(kind),
+          create_discretization<2>(discretization_method_names.from_string(kind),
                                    rectangle,
                                    degree,
                                    FEAElement::serendipity);

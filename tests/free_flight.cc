@@ -220,11 +220,11 @@ namespace
       {
         integrator.advance();
         const EnergyBalance balance = integrator.energy_balance();
-        max_contact                 = std::max(
-          {max_contact,
-                           balance.contact,
-                           integrator.contact_results()[0].force_on_first_surface.norm(),
-                           double(integrator.contact_results()[0].n_active_points)});
+        max_contact =
+          std::max({max_contact,
+                    balance.contact,
+                    integrator.contact_results()[0].force_on_body_0.norm(),
+                    double(integrator.contact_results()[0].n_active_points)});
 
         double strain = 0.;
         for (unsigned int b = 0; b < 2; ++b)

@@ -383,12 +383,13 @@ main()
       "exceeds the work"));
     CHECK_TRUE(throws_with(
       [&] {
-        approach_law_from_string("Hertz");
+        approach_law_names.from_string("Hertz");
       },
       "allowed: \"Gerl-Zippelius\", \"Johnson\""));
-    CHECK_TRUE(approach_law_from_string("Gerl-Zippelius") ==
+    CHECK_TRUE(approach_law_names.from_string("Gerl-Zippelius") ==
                  ApproachLaw::gerl_zippelius &&
-               approach_law_from_string("Johnson") == ApproachLaw::johnson);
+               approach_law_names.from_string("Johnson") ==
+                 ApproachLaw::johnson);
 
     const HertzImpactReference reference(good, good, 4., ApproachLaw::johnson);
     CHECK_TRUE(throws_with(

@@ -129,13 +129,10 @@ main()
     Vector<double> u(6), f(6);
     for (unsigned int k = 0; k < 3; ++k)
       u(2 * k + 1) = -0.06;
-    const ContactResult<2> result = contact.add_forces(u, f, true);
-    check_close("resultant y",
-                result.force_on_first_surface[1],
-                eps * g0 * L,
-                1e-12);
+    const ContactResult<2> result = contact.evaluate({&u}, {&f}, true);
+    check_close("resultant y", result.force_on_body_0[1], eps * g0 * L, 1e-12);
     check_close("resultant x",
-                result.force_on_first_surface[0],
+                result.force_on_body_0[0],
                 0.,
                 1.,
                 1e-12 * eps * g0 * L,
@@ -162,7 +159,7 @@ main()
                  std::abs(point.pressure - eps * g0) < 1e-9);
 
     Vector<double>         zero(6), f0(6);
-    const ContactResult<2> free = contact.add_forces(zero, f0);
+    const ContactResult<2> free = contact.evaluate({&zero}, {&f0}, false);
     CHECK_TRUE(free.n_active_points == 0 && f0.l2_norm() == 0. &&
                free.energy == 0.);
   }
@@ -176,11 +173,8 @@ main()
                          Point<2>(0., -0.02),
                          Point<2>(0., -0.01))});
     Vector<double>         u(6), f(6);
-    const ContactResult<2> result = contact.add_forces(u, f);
-    check_close("resultant y",
-                result.force_on_first_surface[1],
-                eps * 4e-4,
-                1e-12);
+    const ContactResult<2> result = contact.evaluate({&u}, {&f}, false);
+    check_close("resultant y", result.force_on_body_0[1], eps * 4e-4, 1e-12);
     check_close("energy",
                 result.energy,
                 eps * (std::pow(0.03, 3) - std::pow(0.01, 3)) / 6.,
@@ -204,7 +198,7 @@ main()
                          Point<2>(0.1, -0.01),
                          Point<2>(1., -0.01))});
     Vector<double>         u(6), f(6);
-    const ContactResult<2> result = contact.add_forces(u, f);
+    const ContactResult<2> result = contact.evaluate({&u}, {&f}, false);
     CHECK_TRUE(result.n_active_points > 0);
     const double h         = 1e-6;
     double       max_error = 0.;
@@ -213,8 +207,8 @@ main()
         Vector<double> up(u), um(u), scratch(6);
         up(i) += h;
         um(i) -= h;
-        const double dE = (contact.add_forces(up, scratch).energy -
-                           contact.add_forces(um, scratch).energy) /
+        const double dE = (contact.evaluate({&up}, {&scratch}, false).energy -
+                           contact.evaluate({&um}, {&scratch}, false).energy) /
                           (2. * h);
         max_error = std::max(max_error, std::abs(f(i) + dE));
       }

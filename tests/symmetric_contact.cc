@@ -1,13 +1,13 @@
-// Two-pass penalty contact (PenaltyContact::add_forces), static checks.
+// Two-pass penalty contact (PenaltyContact::evaluate), static checks.
 //
 // A. Two identical half disks, R = 4, centres (0, 4) and (0, -4) (body 2 is
 //    the mirror image of body 1 in y = 0), pressed into each other by the
 //    uniform displacements u_y = -0.05 (body 1) and +0.05 (body 2), i.e. an
 //    approach of 0.1. For both PenaltyPerPass conventions:
-//    - action = reaction: each pass puts the traction on the slave and minus
-//      it on the master with functions that sum to one, so sum(f1) + sum(f2)
-//      = 0 to round-off: 1e-10 relative to |resultant|; the resultant
-//      reported equals sum(f1) (same tolerance).
+//    - action = reaction: each pass puts the traction on the body of its
+//      Gauss points and minus it on the other body with functions that sum
+//      to one, so sum(f1) + sum(f2) = 0 to round-off: 1e-10 relative to
+//      |resultant|; the resultant reported equals sum(f1) (same tolerance).
 //    - mirror symmetry: pass 2 is the mirror image of pass 1, so the force on
 //      body 2 at the node (x, -y) is (f1_x, -f1_y) of body 1 at (x, y):
 //      1e-10 relative to max |f1|; measured 8e-17 .. 5e-15. (Mirrored nodes
@@ -168,7 +168,7 @@ namespace
           d2.boundary_segments(BodyGeometry::curved_boundary_id));
         Vector<double>         f1(d1.n_dofs()), f2(d2.n_dofs());
         const ContactResult<2> result =
-          contact.add_forces(u1, u2, f1, f2, true);
+          contact.evaluate({&u1, &u2}, {&f1, &f2}, true);
         results[convention == PenaltyPerPass::half ? 0 : 1] = result;
         const Tensor<1, 2> F1 = sum(d1, f1), F2 = sum(d2, f2);
         std::cout << "    " << name(convention) << ": resultant on body 1 "
@@ -182,13 +182,13 @@ namespace
                                      1.,
                                      1e-10,
                                      true);
-        isoimpact_tests::check_close(
-          "|reported - sum(f1)| / |F1|" + which,
-          (result.force_on_first_surface - F1).norm() / F1.norm(),
-          0.,
-          1.,
-          1e-10,
-          true);
+        isoimpact_tests::check_close("|reported - sum(f1)| / |F1|" + which,
+                                     (result.force_on_body_0 - F1).norm() /
+                                       F1.norm(),
+                                     0.,
+                                     1.,
+                                     1e-10,
+                                     true);
         isoimpact_tests::check_close("|F1_x| / |F1|" + which,
                                      std::abs(F1[0]) / F1.norm(),
                                      0.,
@@ -240,8 +240,8 @@ namespace
                                      exact,
                                      allowed);
       }
-    CHECK_CLOSE(results[0].force_on_first_surface[1],
-                0.5 * results[1].force_on_first_surface[1],
+    CHECK_CLOSE(results[0].force_on_body_0[1],
+                0.5 * results[1].force_on_body_0[1],
                 1e-12);
     CHECK_CLOSE(results[0].energy, 0.5 * results[1].energy, 1e-12);
     CHECK_CLOSE(results[0].max_pressure, 0.5 * results[1].max_pressure, 1e-12);
@@ -280,7 +280,7 @@ namespace
                                         d2.boundary_segments(bottom));
         Vector<double>          f1(d1.n_dofs()), f2(d2.n_dofs());
         const ContactResult<2>  result =
-          contact.add_forces(u1, u2, f1, f2, true);
+          contact.evaluate({&u1, &u2}, {&f1, &f2}, true);
         results[convention == PenaltyPerPass::half ? 0 : 1] = result;
         const Tensor<1, 2> F1 = sum(d1, f1), F2 = sum(d2, f2);
         std::cout << "    " << name(convention) << ": resultant on the lower "
@@ -301,7 +301,7 @@ namespace
                                      factor * eps_N * g0 * L,
                                      1e-10);
         isoimpact_tests::check_close("reported resultant" + which,
-                                     result.force_on_first_surface[1],
+                                     result.force_on_body_0[1],
                                      -factor * eps_N * g0 * L,
                                      1e-10);
         isoimpact_tests::check_close("max pressure" + which,
@@ -312,7 +312,7 @@ namespace
                                      result.energy,
                                      factor * 0.5 * eps_N * g0 * g0 * L,
                                      1e-10);
-        CHECK_TRUE(result.n_active_points == contact.n_slave_points());
+        CHECK_TRUE(result.n_active_points == contact.n_surface_points());
         double point_error = 0.;
         for (const auto &point : result.points)
           point_error = std::max(
@@ -356,8 +356,8 @@ namespace
                                          true);
           }
       }
-    CHECK_CLOSE(results[0].force_on_first_surface[1],
-                0.5 * results[1].force_on_first_surface[1],
+    CHECK_CLOSE(results[0].force_on_body_0[1],
+                0.5 * results[1].force_on_body_0[1],
                 1e-12);
   }
 
@@ -381,7 +381,8 @@ namespace
           d2.boundary_segments(BodyGeometry::curved_boundary_id));
         Vector<double>       f1(d1.n_dofs()), f2(d2.n_dofs());
         const Vector<double> zero_1(d1.n_dofs()), zero_2(d2.n_dofs());
-        ContactResult<2> result = contact.add_forces(zero_1, zero_2, f1, f2);
+        ContactResult<2>     result =
+          contact.evaluate({&zero_1, &zero_2}, {&f1, &f2}, false);
         std::cout << "    " << name(convention)
                   << ": u = 0: " << result.n_active_points << " active points"
                   << std::endl;
@@ -394,12 +395,12 @@ namespace
         f2            = 0.;
         const auto u1 = uniform_field(d1, Tensor<1, 2>({0., -1e-3}));
         const auto u2 = uniform_field(d2, Tensor<1, 2>({0., 1e-3}));
-        result        = contact.add_forces(u1, u2, f1, f2);
+        result        = contact.evaluate({&u1, &u2}, {&f1, &f2}, false);
         std::cout << "    approach 2e-3: " << result.n_active_points
-                  << " active points, resultant "
-                  << result.force_on_first_surface << std::endl;
+                  << " active points, resultant " << result.force_on_body_0
+                  << std::endl;
         CHECK_TRUE(result.n_active_points > 0 &&
-                   result.force_on_first_surface[1] > 0.);
+                   result.force_on_body_0[1] > 0.);
       }
   }
 } // namespace

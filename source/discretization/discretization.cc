@@ -99,45 +99,6 @@ namespace isoimpact
       }
   }
 
-  FEAElement
-  fea_element_from_string(const std::string &name)
-  {
-    if (name == "lagrange")
-      return FEAElement::lagrange;
-    if (name == "serendipity")
-      return FEAElement::serendipity;
-    AssertThrow(false,
-                ExcMessage("unknown FEA element '" + name +
-                           "': allowed are 'lagrange' (FE_Q) and "
-                           "'serendipity' (8-node Q8, degree 2 only)"));
-    return FEAElement::lagrange;
-  }
-
-  std::string
-  to_string(const FEAElement element)
-  {
-    return element == FEAElement::serendipity ? "serendipity" : "lagrange";
-  }
-
-  DiscretizationMethod
-  discretization_method_from_string(const std::string &name)
-  {
-    for (const auto method :
-         {DiscretizationMethod::fea, DiscretizationMethod::iga})
-      if (to_string(method) == name)
-        return method;
-    AssertThrow(false,
-                ExcMessage("unknown discretisation '" + name +
-                           "': allowed are 'fea' and 'iga'"));
-    return DiscretizationMethod::fea;
-  }
-
-  std::string
-  to_string(const DiscretizationMethod method)
-  {
-    return method == DiscretizationMethod::iga ? "iga" : "fea";
-  }
-
   template <int dim>
   std::unique_ptr<Discretization<dim>>
   create_discretization(const DiscretizationMethod method,

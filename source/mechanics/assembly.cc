@@ -14,36 +14,6 @@ using namespace dealii;
 
 namespace isoimpact
 {
-  MassScheme
-  mass_scheme_from_string(const std::string &name)
-  {
-    if (name == "consistent")
-      return MassScheme::consistent;
-    if (name == "row-sum")
-      return MassScheme::row_sum;
-    if (name == "HRZ")
-      return MassScheme::hrz;
-    AssertThrow(false,
-                ExcMessage("unknown mass matrix '" + name +
-                           "': allowed are consistent, row-sum, HRZ"));
-    return MassScheme::consistent;
-  }
-
-  std::string
-  to_string(const MassScheme scheme)
-  {
-    switch (scheme)
-      {
-        case MassScheme::consistent:
-          return "consistent";
-        case MassScheme::row_sum:
-          return "row-sum";
-        case MassScheme::hrz:
-          return "HRZ";
-      }
-    return "";
-  }
-
   template <int dim>
   void
   make_sparsity_pattern(const Discretization<dim>       &discretization,

@@ -6,7 +6,9 @@
 
 #include <boost/geometry.hpp>
 #include <boost/geometry/index/rtree.hpp>
+#include <boost/iterator/function_output_iterator.hpp>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -17,19 +19,6 @@ namespace isoimpact
 {
   namespace bg  = boost::geometry;
   namespace bgi = boost::geometry::index;
-
-  PenaltyPerPass
-  penalty_per_pass_from_string(const std::string &name)
-  {
-    if (name == "half")
-      return PenaltyPerPass::half;
-    if (name == "full")
-      return PenaltyPerPass::full;
-    AssertThrow(false,
-                ExcMessage("unknown penalty per pass '" + name +
-                           "': allowed are half, full"));
-    return PenaltyPerPass::half;
-  }
 
   template <int dim>
   std::vector<SurfaceQuadraturePoint<dim>>
@@ -92,93 +81,162 @@ namespace isoimpact
   }
 
   template <int dim>
-  struct PenaltyContact<dim>::Surface
+  void
+  ContactResult<dim>::add_active_point(
+    const ContactPoint<dim> &point,
+    const double             point_energy,
+    const Tensor<1, dim>    &point_force_on_body_0,
+    const bool               record_point)
   {
-    using BoostPoint = bg::model::point<double, 2, bg::cs::cartesian>;
-    using Box        = bg::model::box<BoostPoint>;
+    energy += point_energy;
+    force_on_body_0 += point_force_on_body_0;
+    max_pressure = std::max(max_pressure, point.pressure);
+    ++n_active_points;
+    if (record_point)
+      points.push_back(point);
+  }
 
-    std::vector<BoundarySegment<dim>>        segments;
-    std::vector<double>                      reference_lengths;
-    std::vector<SurfaceQuadraturePoint<dim>> slave_points;
+  namespace
+  {
+    using BoostPoint  = bg::model::point<double, 2, bg::cs::cartesian>;
+    using BoundingBox = bg::model::box<BoostPoint>;
 
-    // Scratch of one evaluation: current node positions per segment and the
-    // R-tree of their bounding boxes.
-    mutable std::vector<std::vector<Point<dim>>> current_nodes;
-    mutable bgi::rtree<std::pair<Box, unsigned int>, bgi::quadratic<16>> tree;
-
-    Surface(std::vector<BoundarySegment<dim>> segments_in,
-            const unsigned int                n_quadrature_points)
-      : segments(std::move(segments_in))
-      , slave_points(
-          surface_quadrature(segments, n_quadrature_points, &reference_lengths))
+    // Scratch of one evaluation: a contact surface in its current
+    // configuration (the node positions of each segment) and its search
+    // structure, an R-tree of the segments' bounding boxes.
+    template <int dim>
+    class CurrentSurface
     {
-      current_nodes.resize(segments.size());
-    }
+    public:
+      CurrentSurface(const std::vector<BoundarySegment<dim>> &segments,
+                     const std::vector<double>               &reference_lengths,
+                     const Vector<double>                    &u);
 
-    void
-    update_current_configuration(const Vector<double> &u) const
+      // Search: the segments whose bounding box contains x.
+      void
+      find_candidates(const Point<dim>          &x,
+                      std::vector<unsigned int> &candidates) const;
+
+      // Current position of a Gauss point.
+      Point<dim>
+      position(const SurfaceQuadraturePoint<dim> &point) const;
+
+      // Position and tangent of segment s at eta.
+      void
+      evaluate(const unsigned int   s,
+               const double         eta,
+               std::vector<double> &r,
+               std::vector<double> &dr,
+               Point<dim>          &x,
+               Tensor<1, dim>      &tangent) const;
+
+      // The parameter eta of the closest point of segment s to x.
+      double
+      closest_point(const unsigned int   s,
+                    const Point<dim>    &x,
+                    std::vector<double> &r,
+                    std::vector<double> &dr) const;
+
+      const std::vector<BoundarySegment<dim>> &segments;
+
+    private:
+      std::vector<std::vector<Point<dim>>> nodes;
+      bgi::rtree<std::pair<BoundingBox, unsigned int>, bgi::quadratic<16>> tree;
+    };
+
+    template <int dim>
+    CurrentSurface<dim>::CurrentSurface(
+      const std::vector<BoundarySegment<dim>> &segments,
+      const std::vector<double>               &reference_lengths,
+      const Vector<double>                    &u)
+      : segments(segments)
+      , nodes(segments.size())
     {
-      std::vector<std::pair<Box, unsigned int>> boxes;
+      std::vector<std::pair<BoundingBox, unsigned int>> boxes;
       boxes.reserve(segments.size());
       for (unsigned int s = 0; s < segments.size(); ++s)
         {
           const auto &segment = segments[s];
-          auto       &nodes   = current_nodes[s];
-          nodes.resize(segment.node_positions.size());
+          auto       &current = nodes[s];
+          current.resize(segment.node_positions.size());
           Point<dim> lower, upper;
           for (unsigned int d = 0; d < dim; ++d)
             {
               lower[d] = std::numeric_limits<double>::max();
               upper[d] = -std::numeric_limits<double>::max();
             }
-          for (unsigned int k = 0; k < nodes.size(); ++k)
-            {
-              for (unsigned int d = 0; d < dim; ++d)
-                {
-                  nodes[k][d] =
-                    segment.node_positions[k][d] + u(segment.node_dofs[k][d]);
-                  lower[d] = std::min(lower[d], nodes[k][d]);
-                  upper[d] = std::max(upper[d], nodes[k][d]);
-                }
-            }
+          for (unsigned int k = 0; k < current.size(); ++k)
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                current[k][d] =
+                  segment.node_positions[k][d] + u(segment.node_dofs[k][d]);
+                lower[d] = std::min(lower[d], current[k][d]);
+                upper[d] = std::max(upper[d], current[k][d]);
+              }
           // Lagrange curves may leave the hull of their nodes, and a
           // penetrating point lies inside the other body: inflate the box.
           const double margin = 0.5 * reference_lengths[s];
           boxes.emplace_back(
-            Box(BoostPoint(lower[0] - margin, lower[1] - margin),
-                BoostPoint(upper[0] + margin, upper[1] + margin)),
+            BoundingBox(BoostPoint(lower[0] - margin, lower[1] - margin),
+                        BoostPoint(upper[0] + margin, upper[1] + margin)),
             s);
         }
       tree = decltype(tree)(boxes.begin(), boxes.end()); // bulk loading
     }
 
-    // Position and tangent of segment s at eta, current configuration.
+    template <int dim>
     void
-    evaluate(const unsigned int   s,
-             const double         eta,
-             std::vector<double> &r,
-             std::vector<double> &dr,
-             Point<dim>          &x,
-             Tensor<1, dim>      &tangent) const
+    CurrentSurface<dim>::find_candidates(
+      const Point<dim>          &x,
+      std::vector<unsigned int> &candidates) const
+    {
+      candidates.clear();
+      tree.query(bgi::intersects(BoostPoint(x[0], x[1])),
+                 boost::make_function_output_iterator(
+                   [&](const std::pair<BoundingBox, unsigned int> &value) {
+                     candidates.push_back(value.second);
+                   }));
+    }
+
+    template <int dim>
+    Point<dim>
+    CurrentSurface<dim>::position(
+      const SurfaceQuadraturePoint<dim> &point) const
+    {
+      Point<dim> x;
+      for (unsigned int k = 0; k < point.shape_values.size(); ++k)
+        x += point.shape_values[k] * nodes[point.segment][k];
+      return x;
+    }
+
+    template <int dim>
+    void
+    CurrentSurface<dim>::evaluate(const unsigned int   s,
+                                  const double         eta,
+                                  std::vector<double> &r,
+                                  std::vector<double> &dr,
+                                  Point<dim>          &x,
+                                  Tensor<1, dim>      &tangent) const
     {
       evaluate_segment_basis(segments[s], eta, r, dr);
       x       = Point<dim>();
       tangent = Tensor<1, dim>();
       for (unsigned int k = 0; k < r.size(); ++k)
         {
-          x += r[k] * current_nodes[s][k];
-          tangent += dr[k] * current_nodes[s][k];
+          x += r[k] * nodes[s][k];
+          tangent += dr[k] * nodes[s][k];
         }
     }
 
-    // Closest point of segment s to x: Gauss-Newton on
-    // (x - x_s(eta)) . x_s'(eta) = 0 from the best of a few samples; if it
-    // does not converge, a sampled golden-section search on the distance.
+    // Gauss-Newton on (x - x_s(eta)) . x_s'(eta) = 0 from the best of a few
+    // samples; if it does not converge, a sampled golden-section search on
+    // the distance.
+    template <int dim>
     double
-    closest_point(const unsigned int   s,
-                  const Point<dim>    &x,
-                  std::vector<double> &r,
-                  std::vector<double> &dr) const
+    CurrentSurface<dim>::closest_point(const unsigned int   s,
+                                       const Point<dim>    &x,
+                                       std::vector<double> &r,
+                                       std::vector<double> &dr) const
     {
       Point<dim>     y;
       Tensor<1, dim> t;
@@ -244,13 +302,85 @@ namespace isoimpact
         }
       return eta;
     }
-  };
+
+    // The closest point of a surface to a point x.
+    template <int dim>
+    struct Projection
+    {
+      unsigned int   segment = numbers::invalid_unsigned_int; // none found
+      double         eta     = 0.;
+      Tensor<1, dim> normal;   // unit outward normal of the surface there
+      double         gap = 0.; // (x - y) . normal, negative if penetrating
+    };
+
+    // Closest-point projection of x onto the candidate segments of
+    // `surface`; a point beyond a free end of the surface is no contact.
+    template <int dim>
+    Projection<dim>
+    project(const CurrentSurface<dim>       &surface,
+            const Point<dim>                &x,
+            const std::vector<unsigned int> &candidates,
+            std::vector<double>             &r,
+            std::vector<double>             &dr)
+    {
+      Projection<dim> closest;
+      double          closest_distance = std::numeric_limits<double>::max();
+      for (const unsigned int s : candidates)
+        {
+          const double eta     = surface.closest_point(s, x, r, dr);
+          const auto  &segment = surface.segments[s];
+          if ((eta <= 0. && segment.free_end[0]) ||
+              (eta >= 1. && segment.free_end[1]))
+            continue;
+          Point<dim>     y;
+          Tensor<1, dim> t;
+          surface.evaluate(s, eta, r, dr, y, t);
+          const double distance = (x - y).norm();
+          if (distance < closest_distance)
+            {
+              closest_distance = distance;
+              closest.segment  = s;
+              closest.eta      = eta;
+              Tensor<1, dim> n;
+              n[0]           = t[1];
+              n[1]           = -t[0];
+              closest.normal = segment.normal_orientation * n / n.norm();
+              closest.gap    = (x - y) * closest.normal;
+            }
+        }
+      return closest;
+    }
+
+    // Traction assembly for a penetrating Gauss point: the penalty traction
+    // penalty |g| n times the point's weight acts on the point's own body,
+    // the opposite on the other body at the projection, each distributed
+    // with the nodal functions there. Returns the force on the own body.
+    template <int dim>
+    Tensor<1, dim>
+    add_penalty_traction(const BoundarySegment<dim>        &segment,
+                         const SurfaceQuadraturePoint<dim> &point,
+                         const BoundarySegment<dim>        &other_segment,
+                         const Projection<dim>             &projection,
+                         const double                       penalty,
+                         Vector<double>                    &f,
+                         Vector<double>                    &f_other,
+                         std::vector<double>               &r,
+                         std::vector<double>               &dr)
+    {
+      const double         pressure = -penalty * projection.gap;
+      const Tensor<1, dim> force = pressure * point.weight * projection.normal;
+      distribute_point_force(segment, point.shape_values, force, f);
+      evaluate_segment_basis(other_segment, projection.eta, r, dr);
+      distribute_point_force(other_segment, r, -force, f_other);
+      return force;
+    }
+  } // namespace
 
   template <int dim>
   PenaltyContact<dim>::PenaltyContact(
     const ContactSettings            &settings,
-    std::vector<BoundarySegment<dim>> first_surface,
-    std::vector<BoundarySegment<dim>> second_surface)
+    std::vector<BoundarySegment<dim>> surface_of_body_0,
+    std::vector<BoundarySegment<dim>> surface_of_body_1)
     : settings(settings)
   {
     AssertThrow(dim == 2, ExcMessage("contact is implemented for dim = 2"));
@@ -258,17 +388,16 @@ namespace isoimpact
                 ExcMessage("contact penalty " +
                            std::to_string(settings.penalty) +
                            " is not allowed: it must be positive"));
-    AssertThrow(!first_surface.empty() && !second_surface.empty(),
+    AssertThrow(!surface_of_body_0.empty() && !surface_of_body_1.empty(),
                 ExcMessage("contact: a contact surface has no faces; check "
                            "the boundary ids declared as contact surfaces"));
-    surfaces[0] = std::make_unique<Surface>(std::move(first_surface),
-                                            settings.n_quadrature_points);
-    surfaces[1] = std::make_unique<Surface>(std::move(second_surface),
-                                            settings.n_quadrature_points);
+    surfaces[0].segments = std::move(surface_of_body_0);
+    surfaces[1].segments = std::move(surface_of_body_1);
+    for (Surface &surface : surfaces)
+      surface.points = surface_quadrature(surface.segments,
+                                          settings.n_quadrature_points,
+                                          &surface.reference_lengths);
   }
-
-  template <int dim>
-  PenaltyContact<dim>::~PenaltyContact() = default;
 
   template <int dim>
   double
@@ -287,22 +416,6 @@ namespace isoimpact
   }
 
   template <int dim>
-  ContactResult<dim>
-  PenaltyContact<dim>::evaluate(
-    const std::vector<const Vector<double> *> &displacements,
-    const std::vector<Vector<double> *>       &forces,
-    const bool                                 record_points) const
-  {
-    AssertDimension(displacements.size(), 2);
-    AssertDimension(forces.size(), 2);
-    return add_forces(*displacements[0],
-                      *displacements[1],
-                      *forces[0],
-                      *forces[1],
-                      record_points);
-  }
-
-  template <int dim>
   std::string
   PenaltyContact<dim>::description() const
   {
@@ -316,116 +429,72 @@ namespace isoimpact
 
   template <int dim>
   unsigned int
-  PenaltyContact<dim>::n_slave_points() const
+  PenaltyContact<dim>::n_surface_points() const
   {
-    return surfaces[0]->slave_points.size() + surfaces[1]->slave_points.size();
+    return surfaces[0].points.size() + surfaces[1].points.size();
   }
 
   template <int dim>
   ContactResult<dim>
-  PenaltyContact<dim>::add_forces(const Vector<double> &u_first,
-                                  const Vector<double> &u_second,
-                                  Vector<double>       &f_first,
-                                  Vector<double>       &f_second,
-                                  const bool            record_points) const
+  PenaltyContact<dim>::evaluate(
+    const std::vector<const Vector<double> *> &displacements,
+    const std::vector<Vector<double> *>       &forces,
+    const bool                                 record_points) const
   {
-    surfaces[0]->update_current_configuration(u_first);
-    surfaces[1]->update_current_configuration(u_second);
-    const std::array<Vector<double> *, 2> f = {{&f_first, &f_second}};
+    AssertDimension(displacements.size(), 2);
+    AssertDimension(forces.size(), 2);
+    const std::array<CurrentSurface<dim>, 2> current = {
+      {CurrentSurface<dim>(surfaces[0].segments,
+                           surfaces[0].reference_lengths,
+                           *displacements[0]),
+       CurrentSurface<dim>(surfaces[1].segments,
+                           surfaces[1].reference_lengths,
+                           *displacements[1])}};
 
     const double eps = penalty_per_pass();
     // Both passes see (nearly) the same gap: the pressure they carry
     // together is 2 eps_pass |g|.
     const double reported_penalty = 2. * eps;
 
-    ContactResult<dim>  result;
-    std::vector<double> r, dr;
-    using Candidate = std::pair<typename Surface::Box, unsigned int>;
-    std::vector<Candidate> candidates;
-
-    for (unsigned int pass = 0; pass < 2; ++pass)
+    ContactResult<dim>        result;
+    std::vector<double>       r, dr;
+    std::vector<unsigned int> candidates;
+    for (unsigned int body = 0; body < 2; ++body)
       {
-        const Surface &slave  = *surfaces[pass];
-        const Surface &master = *surfaces[1 - pass];
-        const double   sign   = (pass == 0) ? 1. : -1.; // force on first
-
-        for (const auto &point : slave.slave_points)
+        const unsigned int other          = 1 - body;
+        const double       sign_on_body_0 = (body == 0) ? 1. : -1.;
+        for (const auto &point : surfaces[body].points)
           {
-            // Current position of the Gauss point.
-            const auto &segment = slave.segments[point.segment];
-            Point<dim>  x;
-            for (unsigned int k = 0; k < point.shape_values.size(); ++k)
-              x +=
-                point.shape_values[k] * slave.current_nodes[point.segment][k];
-
-            candidates.clear();
-            master.tree.query(bgi::intersects(
-                                typename Surface::BoostPoint(x[0], x[1])),
-                              std::back_inserter(candidates));
-
-            double         best_distance = std::numeric_limits<double>::max();
-            double         gap           = 0.;
-            unsigned int   best_segment  = numbers::invalid_unsigned_int;
-            double         best_eta      = 0.;
-            Tensor<1, dim> best_normal;
-            for (const auto &candidate : candidates)
-              {
-                const unsigned int s   = candidate.second;
-                const double       eta = master.closest_point(s, x, r, dr);
-                const auto        &ms  = master.segments[s];
-                if ((eta <= 0. && ms.free_end[0]) ||
-                    (eta >= 1. && ms.free_end[1]))
-                  continue; // beyond the end of the master surface
-                Point<dim>     y;
-                Tensor<1, dim> t;
-                master.evaluate(s, eta, r, dr, y, t);
-                const double distance = (x - y).norm();
-                if (distance < best_distance)
-                  {
-                    best_distance = distance;
-                    best_segment  = s;
-                    best_eta      = eta;
-                    Tensor<1, dim> n;
-                    n[0]        = t[1];
-                    n[1]        = -t[0];
-                    best_normal = ms.normal_orientation * n / n.norm();
-                    gap         = (x - y) * best_normal;
-                  }
-              }
-            if (best_segment == numbers::invalid_unsigned_int || !(gap < 0.))
+            const Point<dim> x = current[body].position(point);
+            current[other].find_candidates(x, candidates);
+            const Projection<dim> projection =
+              project(current[other], x, candidates, r, dr);
+            if (projection.segment == numbers::invalid_unsigned_int ||
+                !(projection.gap < 0.))
               continue;
 
-            // Penalty traction eps |g| n on the slave, the opposite on the
-            // master, distributed with the nodal functions at both points.
-            const double         pressure = -eps * gap;
-            const Tensor<1, dim> traction =
-              pressure * point.weight * best_normal;
-            distribute_point_force(segment,
-                                   point.shape_values,
-                                   traction,
-                                   *f[pass]);
-            evaluate_segment_basis(master.segments[best_segment],
-                                   best_eta,
+            const Tensor<1, dim> force =
+              add_penalty_traction(surfaces[body].segments[point.segment],
+                                   point,
+                                   surfaces[other].segments[projection.segment],
+                                   projection,
+                                   eps,
+                                   *forces[body],
+                                   *forces[other],
                                    r,
                                    dr);
-            distribute_point_force(master.segments[best_segment],
-                                   r,
-                                   -traction,
-                                   *f[1 - pass]);
-
-            result.energy += 0.5 * eps * gap * gap * point.weight;
-            result.force_on_first_surface += sign * traction;
-            result.max_pressure =
-              std::max(result.max_pressure, -reported_penalty * gap);
-            ++result.n_active_points;
-            if (record_points)
-              result.points.push_back(
-                {point.reference_position, -reported_penalty * gap, gap, pass});
+            const double gap = projection.gap;
+            result.add_active_point(
+              {point.reference_position, -reported_penalty * gap, gap, body},
+              0.5 * eps * gap * gap * point.weight,
+              sign_on_body_0 * force,
+              record_points);
           }
       }
     return result;
   }
 
+  template struct ContactResult<2>;
   template class PenaltyContact<2>;
   template std::vector<SurfaceQuadraturePoint<2>>
   surface_quadrature(const std::vector<BoundarySegment<2>> &,

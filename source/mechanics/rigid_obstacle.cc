@@ -106,35 +106,6 @@ namespace isoimpact
   }
 
   template <int dim>
-  ContactResult<dim>
-  RigidObstacleContact<dim>::add_forces(const Vector<double> &u,
-                                        Vector<double>       &f,
-                                        const bool record_points) const
-  {
-    ContactResult<dim> result;
-    const double       eps = settings.penalty;
-    for (const auto &point : points)
-      {
-        const auto      &segment = segments[point.segment];
-        const Point<dim> x       = current_position(segment, point, u);
-        Tensor<1, dim>   n;
-        const double     g = rigid_obstacle.gap(x, n);
-        if (!(g < 0.))
-          continue;
-        // Traction -eps g n on the body, i.e. -dPi/dx with Pi = eps/2 g^2.
-        const Tensor<1, dim> force = -eps * g * point.weight * n;
-        distribute_point_force(segment, point.shape_values, force, f);
-        result.energy += 0.5 * eps * g * g * point.weight;
-        result.force_on_first_surface += force;
-        result.max_pressure = std::max(result.max_pressure, -eps * g);
-        ++result.n_active_points;
-        if (record_points)
-          result.points.push_back({point.reference_position, -eps * g, g, 0});
-      }
-    return result;
-  }
-
-  template <int dim>
   unsigned int
   RigidObstacleContact<dim>::n_bodies() const
   {
@@ -150,7 +121,26 @@ namespace isoimpact
   {
     AssertDimension(displacements.size(), 1);
     AssertDimension(forces.size(), 1);
-    return add_forces(*displacements[0], *forces[0], record_points);
+    const double       eps = settings.penalty;
+    ContactResult<dim> result;
+    for (const auto &point : points)
+      {
+        const auto      &segment = segments[point.segment];
+        const Point<dim> x =
+          current_position(segment, point, *displacements[0]);
+        Tensor<1, dim> n;
+        const double   g = rigid_obstacle.gap(x, n);
+        if (!(g < 0.))
+          continue;
+        // Traction -eps g n on the body, i.e. -dPi/dx with Pi = eps/2 g^2.
+        const Tensor<1, dim> force = -eps * g * point.weight * n;
+        distribute_point_force(segment, point.shape_values, force, *forces[0]);
+        result.add_active_point({point.reference_position, -eps * g, g, 0},
+                                0.5 * eps * g * g * point.weight,
+                                force,
+                                record_points);
+      }
+    return result;
   }
 
   template <int dim>

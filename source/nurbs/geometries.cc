@@ -67,42 +67,6 @@ namespace isoimpact
 
 
 
-    std::string
-    to_string(const SideKind kind)
-    {
-      switch (kind)
-        {
-          case SideKind::arc:
-            return "arc";
-          case SideKind::symmetry:
-            return "symmetry";
-          case SideKind::straight:
-            return "straight";
-          default:
-            return "unspecified";
-        }
-    }
-
-
-
-    SideKind
-    side_kind_from_string(const std::string &text)
-    {
-      for (const SideKind kind : {SideKind::arc,
-                                  SideKind::symmetry,
-                                  SideKind::straight,
-                                  SideKind::unspecified})
-        if (text == to_string(kind))
-          return kind;
-      AssertThrow(false,
-                  dealii::ExcMessage("side kind '" + text +
-                                     "' is unknown; allowed are arc, "
-                                     "symmetry, straight, unspecified"));
-      return SideKind::unspecified;
-    }
-
-
-
     template <int dim, int spacedim>
     std::vector<unsigned int>
     PatchGeometry<dim, spacedim>::sides_of_kind(const SideKind kind) const
@@ -476,7 +440,8 @@ namespace isoimpact
                        std::to_string(2 * dim - 1));
               try
                 {
-                  geometry.side_kinds[f] = side_kind_from_string(line.words[2]);
+                  geometry.side_kinds[f] =
+                    side_kind_names.from_string(line.words[2]);
                 }
               catch (const dealii::ExceptionBase &e)
                 {

@@ -64,30 +64,6 @@ namespace isoimpact
 
 
 
-  ApproachLaw
-  approach_law_from_string(const std::string &name)
-  {
-    if (name == "Gerl-Zippelius")
-      return ApproachLaw::gerl_zippelius;
-    if (name == "Johnson")
-      return ApproachLaw::johnson;
-    AssertThrow(false,
-                dealii::ExcMessage("Unknown Hertz approach law \"" + name +
-                                   "\"; allowed: \"Gerl-Zippelius\", "
-                                   "\"Johnson\"."));
-    return ApproachLaw::johnson;
-  }
-
-
-
-  std::string
-  to_string(const ApproachLaw law)
-  {
-    return law == ApproachLaw::gerl_zippelius ? "Gerl-Zippelius" : "Johnson";
-  }
-
-
-
   HertzImpactReference::HertzImpactReference(const ElasticCylinder &body_1,
                                              const ElasticCylinder &body_2,
                                              const double      closing_speed,

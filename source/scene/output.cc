@@ -212,7 +212,7 @@ namespace isoimpact
     for (const auto &point : points)
       {
         const double s = point.reference_position * across;
-        out << s << ',' << point.pressure << ',' << point.slave_surface + 1;
+        out << s << ',' << point.pressure << ',' << point.body + 1;
         if (reference)
           out << ',' << reference->pressure(force, s);
         out << '\n';

@@ -118,7 +118,7 @@ namespace isoimpact
     prm.enter_subsection("Discretization");
     prm.declare_entry("Method",
                       "fea",
-                      Patterns::Selection("fea|iga"),
+                      Patterns::Selection(discretization_method_names.selection()),
                       "fea: Lagrange (FE_Q) or serendipity elements with "
                       "MappingQ on exact manifolds; iga: NURBS (exact "
                       "circles), one patch per coarse FEA cell (4 for a half "
@@ -126,7 +126,7 @@ namespace isoimpact
                       "mesh and the number of elements at every level.");
     prm.declare_entry("FEA element",
                       "lagrange",
-                      Patterns::Selection("lagrange|serendipity"),
+                      Patterns::Selection(fea_element_names.selection()),
                       "Method = fea only. lagrange: FE_Q(Degree) (Q9 for "
                       "degree 2); serendipity: the 8-node quadratic element "
                       "of the source study (Degree = 2; row-sum lumping is "
@@ -161,7 +161,7 @@ namespace isoimpact
     prm.enter_subsection("Mass matrix");
     prm.declare_entry("Scheme",
                       "HRZ",
-                      Patterns::Selection("consistent|row-sum|HRZ"),
+                      Patterns::Selection(mass_scheme_names.selection()),
                       "consistent (solved with a factorisation computed "
                       "once), row-sum or HRZ lumping.");
     prm.leave_subsection();
@@ -173,7 +173,7 @@ namespace isoimpact
                       "eps_N, Pa/m: traction per unit penetration (> 0).");
     prm.declare_entry("Penalty per pass",
                       "half",
-                      Patterns::Selection("half|full"),
+                      Patterns::Selection(penalty_per_pass_names.selection()),
                       "Two-pass convention: half puts eps_N/2 on each pass, "
                       "so that both together act like one penalty eps_N; "
                       "full puts eps_N on each (effective 2 eps_N).");
@@ -254,7 +254,8 @@ namespace isoimpact
                       "surface is written.");
     prm.declare_entry("Analytic reference",
                       "Gerl-Zippelius",
-                      Patterns::Selection("Gerl-Zippelius|Johnson|none"),
+                      Patterns::Selection(approach_law_names.selection() +
+                                          "|none"),
                       "Approach law of the quasi-static Hertz impact used "
                       "for the analytic columns (two disks only).");
     prm.declare_entry("Filter window",
@@ -279,8 +280,8 @@ namespace isoimpact
     prm.leave_subsection();
 
     prm.enter_subsection("Discretization");
-    method      = discretization_method_from_string(prm.get("Method"));
-    fea_element = fea_element_from_string(prm.get("FEA element"));
+    method      = discretization_method_names.from_string(prm.get("Method"));
+    fea_element = fea_element_names.from_string(prm.get("FEA element"));
     degree      = prm.get_integer("Degree");
     const unsigned int global  = prm.get_integer("Global refinements");
     const unsigned int local   = prm.get_integer("Local refinements");
@@ -325,13 +326,13 @@ namespace isoimpact
       }
 
     prm.enter_subsection("Mass matrix");
-    mass_scheme = mass_scheme_from_string(prm.get("Scheme"));
+    mass_scheme = mass_scheme_names.from_string(prm.get("Scheme"));
     prm.leave_subsection();
 
     prm.enter_subsection("Contact");
     contact.penalty = prm.get_double("Penalty");
     contact.penalty_per_pass =
-      penalty_per_pass_from_string(prm.get("Penalty per pass"));
+      penalty_per_pass_names.from_string(prm.get("Penalty per pass"));
     contact.n_quadrature_points = prm.get_integer("Quadrature points per face");
     prm.leave_subsection();
 

@@ -118,7 +118,7 @@ namespace isoimpact
           std::make_unique<HertzImpactReference>(cylinders[0],
                                                  cylinders[1],
                                                  closing_speed,
-                                                 approach_law_from_string(
+                                                 approach_law_names.from_string(
                                                    parameters.approach_law));
       }
     return scene;

@@ -22,6 +22,9 @@
 
 #include <isoimpact/discretization/boundary_segments.h>
 
+#include <isoimpact/nurbs/enum_names.h>
+
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -212,11 +215,17 @@ namespace isoimpact
     serendipity
   };
 
-  // "lagrange" or "serendipity"; anything else throws.
-  FEAElement
-  fea_element_from_string(const std::string &name);
-  std::string
-  to_string(const FEAElement element);
+  // "lagrange" or "serendipity".
+  inline constexpr EnumNames<FEAElement, 2> fea_element_names{
+    "FEA element",
+    {{{FEAElement::lagrange, "lagrange"},
+      {FEAElement::serendipity, "serendipity"}}}};
+
+  inline std::string
+  to_string(const FEAElement element)
+  {
+    return fea_element_names.to_string(element);
+  }
 
   /**
    * The method of a discretisation: `fea` is classical FEA (FE_Q, or the Q8
@@ -229,11 +238,17 @@ namespace isoimpact
     iga
   };
 
-  // "fea" or "iga"; anything else throws.
-  DiscretizationMethod
-  discretization_method_from_string(const std::string &name);
-  std::string
-  to_string(const DiscretizationMethod method);
+  // "fea" or "iga".
+  inline constexpr EnumNames<DiscretizationMethod, 2>
+    discretization_method_names{"discretisation method",
+                                {{{DiscretizationMethod::fea, "fea"},
+                                  {DiscretizationMethod::iga, "iga"}}}};
+
+  inline std::string
+  to_string(const DiscretizationMethod method)
+  {
+    return discretization_method_names.to_string(method);
+  }
 
   /**
    * The factory of layer 3, the one place that chooses the method: FEA with

@@ -8,6 +8,7 @@
 
 #include <isoimpact/discretization/discretization.h>
 #include <isoimpact/mechanics/material.h>
+#include <isoimpact/nurbs/enum_names.h>
 
 #include <functional>
 #include <string>
@@ -22,10 +23,17 @@ namespace isoimpact
   };
 
   // "consistent", "row-sum", "HRZ" (the spelling of the parameter files).
-  MassScheme
-  mass_scheme_from_string(const std::string &name);
-  std::string
-  to_string(const MassScheme scheme);
+  inline constexpr EnumNames<MassScheme, 3> mass_scheme_names{
+    "mass matrix",
+    {{{MassScheme::consistent, "consistent"},
+      {MassScheme::row_sum, "row-sum"},
+      {MassScheme::hrz, "HRZ"}}}};
+
+  inline std::string
+  to_string(const MassScheme scheme)
+  {
+    return mass_scheme_names.to_string(scheme);
+  }
 
   template <int dim>
   void

@@ -4,10 +4,10 @@
 // on the boundary segments of layer 3. The rigid obstacle is in
 // rigid_obstacle.h.
 //
-// Virtual work: delta Pi_c = sum over the two passes of
-//   eps_pass * integral over the slave surface of g_N delta g_N, g_N < 0,
-// where a pass takes one surface as slave (its Gauss points) and projects
-// onto the other (master). Convention (`PenaltyPerPass`):
+// Virtual work: delta Pi_c = sum over the two passes b = 0, 1 of
+//   eps_pass * integral over the surface of body b of g_N delta g_N, g_N < 0,
+// where pass b takes the Gauss points of body b's surface and projects them
+// onto the surface of the other body. Convention (`PenaltyPerPass`):
 //   half: eps_pass = eps_N / 2, so that the two passes together act like a
 //         single-pass penalty eps_N (pressure ~ eps_N |g_N|), the default;
 //   full: eps_pass = eps_N, the formulation written with eps_N on both
@@ -18,9 +18,9 @@
 #include <deal.II/base/tensor.h>
 
 #include <isoimpact/discretization/discretization.h>
+#include <isoimpact/nurbs/enum_names.h>
 
 #include <array>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -32,8 +32,10 @@ namespace isoimpact
     full
   };
 
-  PenaltyPerPass
-  penalty_per_pass_from_string(const std::string &name);
+  // "half" or "full".
+  inline constexpr EnumNames<PenaltyPerPass, 2> penalty_per_pass_names{
+    "penalty per pass",
+    {{{PenaltyPerPass::half, "half"}, {PenaltyPerPass::full, "full"}}}};
 
   struct ContactSettings
   {
@@ -42,24 +44,35 @@ namespace isoimpact
     unsigned int   n_quadrature_points = 4; // Gauss points per segment
   };
 
-  // One point of a contact surface where the penalty is active.
+  // A Gauss point of a contact surface where the penalty is active.
   template <int dim>
   struct ContactPoint
   {
-    dealii::Point<dim> reference_position; // on the slave surface
+    dealii::Point<dim> reference_position; // of the Gauss point
     double             pressure;           // eps_N,effective * |g_N|, Pa
     double             gap;                // g_N, m (negative)
-    unsigned int       slave_surface;      // 0 or 1
+    unsigned int       body; // whose Gauss point: 0 or 1, the model's order
   };
 
+  // What a contact model reports for one evaluation. Bodies are numbered in
+  // the order the model takes them (0, or 0 and 1).
   template <int dim>
   struct ContactResult
   {
     double                         energy = 0.; // J/m (per unit thickness)
-    double                         max_pressure = 0.;      // Pa
-    dealii::Tensor<1, dim>         force_on_first_surface; // N/m, resultant
+    double                         max_pressure = 0.; // Pa
+    dealii::Tensor<1, dim>         force_on_body_0;   // N/m, resultant
     unsigned int                   n_active_points = 0;
     std::vector<ContactPoint<dim>> points;
+
+    // Counts an active Gauss point: adds its penalty energy and its force on
+    // body 0, updates the maximum pressure and keeps `point` if
+    // `record_point`.
+    void
+    add_active_point(const ContactPoint<dim>      &point,
+                     const double                  point_energy,
+                     const dealii::Tensor<1, dim> &point_force_on_body_0,
+                     const bool                    record_point);
   };
 
   /**
@@ -110,9 +123,8 @@ namespace isoimpact
 
   /**
    * The interface through which the time integrator (layer 5) sees a contact
-   * model: it acts on one body (against a rigid obstacle) or two, adds its
-   * forces for the current displacements and returns energy, pressure and
-   * the resultant on the first body.
+   * model: it acts on one body (against a rigid obstacle) or two. evaluate()
+   * is the one entry of every model.
    */
   template <int dim>
   class ContactModel
@@ -124,7 +136,10 @@ namespace isoimpact
     virtual unsigned int
     n_bodies() const = 0;
 
-    // displacements and forces: one entry per body (n_bodies()).
+    // Adds the contact forces for the current displacements (in each body's
+    // unknowns) to the force vectors; one entry per body, in the model's
+    // order. Returns energy, pressure and the resultant on body 0; with
+    // `record_points` also every active Gauss point.
     virtual ContactResult<dim>
     evaluate(const std::vector<const dealii::Vector<double> *> &displacements,
              const std::vector<dealii::Vector<double> *>       &forces,
@@ -135,19 +150,23 @@ namespace isoimpact
     description() const = 0;
   };
 
+  /**
+   * Two-pass penalty contact of body 0 and body 1. Pass b takes the Gauss
+   * points of body b's surface and projects them onto the other body's
+   * surface; the search structure (an R-tree of the segments' current
+   * bounding boxes) is built in every evaluation.
+   */
   template <int dim>
   class PenaltyContact : public ContactModel<dim>
   {
   public:
     PenaltyContact(const ContactSettings            &settings,
-                   std::vector<BoundarySegment<dim>> first_surface,
-                   std::vector<BoundarySegment<dim>> second_surface);
-    ~PenaltyContact() override;
+                   std::vector<BoundarySegment<dim>> surface_of_body_0,
+                   std::vector<BoundarySegment<dim>> surface_of_body_1);
 
     unsigned int
     n_bodies() const override;
 
-    // add_forces() with displacements[0..1] and forces[0..1].
     ContactResult<dim>
     evaluate(const std::vector<const dealii::Vector<double> *> &displacements,
              const std::vector<dealii::Vector<double> *>       &forces,
@@ -156,26 +175,25 @@ namespace isoimpact
     std::string
     description() const override;
 
-    // Adds the contact forces for displacements u (in each body's unknowns)
-    // to the force vectors f; returns energy, pressure and resultant.
-    ContactResult<dim>
-    add_forces(const dealii::Vector<double> &u_first,
-               const dealii::Vector<double> &u_second,
-               dealii::Vector<double>       &f_first,
-               dealii::Vector<double>       &f_second,
-               const bool                    record_points = false) const;
-
     double
     penalty_per_pass() const;
 
-    // Number of Gauss points on each surface (slaves of the two passes).
+    // Number of Gauss points on the two surfaces together.
     unsigned int
-    n_slave_points() const;
+    n_surface_points() const;
 
   private:
-    struct Surface;
-    ContactSettings                         settings;
-    std::array<std::unique_ptr<Surface>, 2> surfaces;
+    // A contact surface: its segments, their reference lengths and its Gauss
+    // points.
+    struct Surface
+    {
+      std::vector<BoundarySegment<dim>>        segments;
+      std::vector<double>                      reference_lengths;
+      std::vector<SurfaceQuadraturePoint<dim>> points;
+    };
+
+    ContactSettings        settings;
+    std::array<Surface, 2> surfaces;
   };
 } // namespace isoimpact
 

@@ -85,9 +85,9 @@ namespace isoimpact
   /**
    * Penalty contact of one body's contact boundary against a rigid obstacle.
    * A ContactModel with n_bodies() = 1: the resultant reported
-   * (force_on_first_surface) is the force of the obstacle on the body; the
+   * (force_on_body_0) is the force of the obstacle on the body; the
    * pressure eps |g|, the energy int eps/2 g^2 ds_ref; recorded points have
-   * slave_surface 0.
+   * body 0.
    */
   template <int dim>
   class RigidObstacleContact : public ContactModel<dim>
@@ -96,13 +96,6 @@ namespace isoimpact
     RigidObstacleContact(const ObstacleContactSettings    &settings,
                          const RigidObstacle<dim>         &obstacle,
                          std::vector<BoundarySegment<dim>> surface);
-
-    // Adds the contact forces for the displacement u (the body's unknowns)
-    // to f.
-    ContactResult<dim>
-    add_forces(const dealii::Vector<double> &u,
-               dealii::Vector<double>       &f,
-               const bool                    record_points = false) const;
 
     unsigned int
     n_bodies() const override;

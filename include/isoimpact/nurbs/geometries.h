@@ -5,6 +5,7 @@
 
 #include <deal.II/base/point.h>
 
+#include <isoimpact/nurbs/enum_names.h>
 #include <isoimpact/nurbs/patch.h>
 
 #include <array>
@@ -25,13 +26,19 @@ namespace isoimpact
       straight     // other straight boundary
     };
 
-    // "arc", "symmetry", "straight", "unspecified".
-    std::string
-    to_string(const SideKind kind);
+    // "arc", "symmetry", "straight", "unspecified", as in patch files.
+    inline constexpr EnumNames<SideKind, 4> side_kind_names{
+      "side kind",
+      {{{SideKind::arc, "arc"},
+        {SideKind::symmetry, "symmetry"},
+        {SideKind::straight, "straight"},
+        {SideKind::unspecified, "unspecified"}}}};
 
-    // Inverse of to_string; throws naming the text if unknown.
-    SideKind
-    side_kind_from_string(const std::string &text);
+    inline std::string
+    to_string(const SideKind kind)
+    {
+      return side_kind_names.to_string(kind);
+    }
 
     /**
      * A patch with the meaning of its sides. Sides (faces) are numbered

@@ -4,6 +4,8 @@
 #ifndef isoimpact_hertz_reference_h
 #define isoimpact_hertz_reference_h
 
+#include <isoimpact/nurbs/enum_names.h>
+
 #include <string>
 #include <vector>
 
@@ -34,17 +36,17 @@ namespace isoimpact
     johnson
   };
 
-  /**
-   * "Gerl-Zippelius" or "Johnson" (exact spelling); throws otherwise.
-   */
-  ApproachLaw
-  approach_law_from_string(const std::string &name);
+  // "Gerl-Zippelius" or "Johnson" (exact spelling).
+  inline constexpr EnumNames<ApproachLaw, 2> approach_law_names{
+    "Hertz approach law",
+    {{{ApproachLaw::gerl_zippelius, "Gerl-Zippelius"},
+      {ApproachLaw::johnson, "Johnson"}}}};
 
-  /**
-   * The inverse of approach_law_from_string().
-   */
-  std::string
-  to_string(const ApproachLaw law);
+  inline std::string
+  to_string(const ApproachLaw law)
+  {
+    return approach_law_names.to_string(law);
+  }
 
   /**
    * Quasi-static Hertz impact of two cylinders: m* delta'' = -P(delta),
