@@ -130,8 +130,7 @@ namespace isoimpact
     pcout << "isoimpact: " << parameter_file << '\n';
     for (const auto &body : scene.bodies)
       pcout << "  " << body->name() << ": " << body->discretization().name()
-            << ", "
-            << body->discretization().triangulation().n_active_cells()
+            << ", " << body->discretization().triangulation().n_active_cells()
             << " cells, " << body->n_dofs() << " unknowns, mass "
             << body->total_mass() << " kg/m (" << to_string(body->mass_scheme())
             << ")\n";
@@ -198,8 +197,7 @@ namespace isoimpact
     StepRecord step;
     step.time = integrator->time();
     step.contact_force =
-      scene.symmetry_factor *
-      (result.force_on_body_0 * scene.impact_direction);
+      scene.symmetry_factor * (result.force_on_body_0 * scene.impact_direction);
     step.max_pressure = result.max_pressure;
     step.in_contact   = result.n_active_points > 0;
 

@@ -44,7 +44,9 @@ namespace
   multipatch(const BodyGeometry &geometry, const unsigned int degree)
   {
     return [=]() {
-      return create_discretization<2>(DiscretizationMethod::iga, geometry, degree);
+      return create_discretization<2>(DiscretizationMethod::iga,
+                                      geometry,
+                                      degree);
     };
   }
 
@@ -192,8 +194,10 @@ main()
   // conforming (MultiPatch refuses others), mass as before (the patch test is
   // in tests/patch_test.cc).
   {
-    const auto uniform = create_discretization<2>(DiscretizationMethod::iga, half_disk(2), 2);
-    const auto local   = create_discretization<2>(DiscretizationMethod::iga, half_disk(2, 2), 2);
+    const auto uniform =
+      create_discretization<2>(DiscretizationMethod::iga, half_disk(2), 2);
+    const auto local =
+      create_discretization<2>(DiscretizationMethod::iga, half_disk(2, 2), 2);
     // The diameter of the cell at the contact point (0, 0).
     const auto smallest_near_contact = [](const Discretization<2> &d) {
       for (const auto &cell : d.triangulation().active_cell_iterators())

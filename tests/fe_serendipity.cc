@@ -283,7 +283,10 @@ namespace
     geometry.upper_right        = b;
     geometry.global_refinements = 0;
     const auto discretization =
-      create_discretization<2>(DiscretizationMethod::fea, geometry, 2, FEAElement::serendipity);
+      create_discretization<2>(DiscretizationMethod::fea,
+                               geometry,
+                               2,
+                               FEAElement::serendipity);
     std::cout << "    " << discretization->name() << std::endl;
     CHECK_TRUE(discretization->name() ==
                "FEA, FESystem<2>[FE_Serendipity<2>(2)^2], MappingQ(2)");
@@ -501,7 +504,10 @@ main()
     options.field_tolerance  = field_tolerance;
     isoimpact_tests::check_patch_test(
       name,
-      create_discretization<2>(DiscretizationMethod::fea, geometry, 2, FEAElement::serendipity),
+      create_discretization<2>(DiscretizationMethod::fea,
+                               geometry,
+                               2,
+                               FEAElement::serendipity),
       true,
       options);
   };
@@ -521,9 +527,12 @@ main()
   // (nodal trace), to round-off relative to R = 4.
   {
     std::cout << "--- boundary segments of the half disk" << std::endl;
-    const auto q8 =
-      create_discretization<2>(DiscretizationMethod::fea, half_disk, 2, FEAElement::serendipity);
-    const auto q9       = create_discretization<2>(DiscretizationMethod::fea, half_disk, 2);
+    const auto q8 = create_discretization<2>(DiscretizationMethod::fea,
+                                             half_disk,
+                                             2,
+                                             FEAElement::serendipity);
+    const auto q9 =
+      create_discretization<2>(DiscretizationMethod::fea, half_disk, 2);
     const auto segments = q8->boundary_segments(0);
     CHECK_TRUE(segments.size() == q9->boundary_segments(0).size());
     double              node_distance = 0.;
@@ -555,7 +564,8 @@ main()
       std::string message;
       try
         {
-          create_discretization<2>(discretization_method_names.from_string(kind),
+          create_discretization<2>(discretization_method_names.from_string(
+                                     kind),
                                    rectangle,
                                    degree,
                                    FEAElement::serendipity);

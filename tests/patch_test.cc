@@ -48,7 +48,9 @@ main()
             std::make_pair("rectangle with hanging nodes", rectangle_hanging),
             std::make_pair("half disk", half_disk(2))})
         check_patch_test(name,
-                         create_discretization<2>(DiscretizationMethod::fea, geometry, 2),
+                         create_discretization<2>(DiscretizationMethod::fea,
+                                                  geometry,
+                                                  2),
                          plane_strain);
 
       for (const auto &[name, geometry, degree] :
@@ -57,7 +59,9 @@ main()
             std::make_tuple("half disk", half_disk(2), 2u),
             std::make_tuple("locally refined half disk", half_disk(1, 2), 3u)})
         check_patch_test(name,
-                         create_discretization<2>(DiscretizationMethod::iga, geometry, degree),
+                         create_discretization<2>(DiscretizationMethod::iga,
+                                                  geometry,
+                                                  degree),
                          plane_strain);
       PatchTestOptions options;
       options.at_vertices = false; // det J = 0 at two corners of the patch

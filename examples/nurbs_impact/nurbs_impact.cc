@@ -71,8 +71,8 @@ main()
     {
       integrator.advance();
       const auto &result = integrator.contact_results()[0];
-      history << integrator.time() << ','
-              << 2. * result.force_on_body_0[1] << '\n';
+      history << integrator.time() << ',' << 2. * result.force_on_body_0[1]
+              << '\n';
       if (result.n_active_points > 0)
         {
           if (first_contact < 0.)

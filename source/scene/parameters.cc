@@ -118,7 +118,8 @@ namespace isoimpact
     prm.enter_subsection("Discretization");
     prm.declare_entry("Method",
                       "fea",
-                      Patterns::Selection(discretization_method_names.selection()),
+                      Patterns::Selection(
+                        discretization_method_names.selection()),
                       "fea: Lagrange (FE_Q) or serendipity elements with "
                       "MappingQ on exact manifolds; iga: NURBS (exact "
                       "circles), one patch per coarse FEA cell (4 for a half "
