@@ -417,6 +417,7 @@ namespace isoimpact
             result.force_on_first_surface += sign * traction;
             result.max_pressure =
               std::max(result.max_pressure, -reported_penalty * gap);
+            result.max_penetration = std::max(result.max_penetration, -gap);
             ++result.n_active_points;
             if (record_points)
               result.points.push_back(

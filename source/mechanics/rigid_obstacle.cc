@@ -126,7 +126,8 @@ namespace isoimpact
         distribute_point_force(segment, point.shape_values, force, f);
         result.energy += 0.5 * eps * g * g * point.weight;
         result.force_on_first_surface += force;
-        result.max_pressure = std::max(result.max_pressure, -eps * g);
+        result.max_pressure    = std::max(result.max_pressure, -eps * g);
+        result.max_penetration = std::max(result.max_penetration, -g);
         ++result.n_active_points;
         if (record_points)
           result.points.push_back({point.reference_position, -eps * g, g, 0});
