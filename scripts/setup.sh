@@ -5,8 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(cmake g++ make libdeal.ii-dev nlohmann-json3-dev python3 python3-numpy
-  python3-vtk9 python3-matplotlib)
+packages=(cmake g++ make libdeal.ii-dev libeigen3-dev nlohmann-json3-dev python3
+  python3-numpy python3-vtk9 python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||

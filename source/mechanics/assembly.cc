@@ -83,6 +83,84 @@ namespace isoimpact
                   rho_phi_i * fe_values.shape_value_component(j, q, ci);
           }
     }
+    template <int dim>
+    void
+    local_stiffness_matrix(const FEValues<dim>                  &fe_values,
+                           const ElasticMaterial                &material,
+                           std::vector<SymmetricTensor<2, dim>> &strain,
+                           FullMatrix<double>                   &cell_matrix)
+    {
+      const FEValuesExtractors::Vector displacement(0);
+      strain.resize(fe_values.dofs_per_cell);
+      for (const unsigned int q : fe_values.quadrature_point_indices())
+        {
+          for (const unsigned int i : fe_values.dof_indices())
+            strain[i] = fe_values[displacement].symmetric_gradient(i, q);
+          for (const unsigned int i : fe_values.dof_indices())
+            {
+              const SymmetricTensor<2, dim> stress_i =
+                material.stress(strain[i]) * fe_values.JxW(q);
+              for (const unsigned int j : fe_values.dof_indices())
+                cell_matrix(i, j) += stress_i * strain[j];
+            }
+        }
+    }
+
+    // The element's lumped masses (row-sum or HRZ) from its consistent mass
+    // matrix; returns the element mass. A non-positive entry is an error.
+    template <int dim>
+    double
+    local_lumped_mass(const FEValues<dim>      &fe_values,
+                      const double              density,
+                      const MassScheme          scheme,
+                      const FullMatrix<double> &cell_matrix,
+                      const std::string        &where,
+                      Vector<double>           &cell_mass)
+    {
+      const auto        &fe = fe_values.get_fe();
+      const unsigned int n  = fe.n_dofs_per_cell();
+      // Mass of the element (each displacement component carries it).
+      double element_mass = 0.;
+      for (const unsigned int q : fe_values.quadrature_point_indices())
+        element_mass += density * fe_values.JxW(q);
+
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          cell_mass(i) = 0.;
+          if (scheme == MassScheme::row_sum)
+            for (unsigned int j = 0; j < n; ++j)
+              cell_mass(i) += cell_matrix(i, j);
+          else
+            cell_mass(i) = cell_matrix(i, i);
+        }
+      if (scheme == MassScheme::hrz)
+        for (unsigned int c = 0; c < fe.n_components(); ++c)
+          {
+            double diagonal_sum = 0.;
+            for (unsigned int i = 0; i < n; ++i)
+              if (fe.system_to_component_index(i).first == c)
+                diagonal_sum += cell_mass(i);
+            for (unsigned int i = 0; i < n; ++i)
+              if (fe.system_to_component_index(i).first == c)
+                cell_mass(i) *= element_mass / diagonal_sum;
+          }
+
+      for (unsigned int i = 0; i < n; ++i)
+        if (!(cell_mass(i) > 0.))
+          {
+            std::ostringstream message;
+            message << to_string(scheme)
+                    << " mass lumping gives the non-positive mass "
+                    << cell_mass(i) << " kg/m (" << cell_mass(i) / element_mass
+                    << " of the element mass) to local function " << i
+                    << " of element " << where
+                    << ": a lumped mass must be positive for explicit "
+                       "dynamics; choose another mass matrix (HRZ or "
+                       "consistent)";
+            AssertThrow(false, ExcMessage(message.str()));
+          }
+      return element_mass;
+    }
   } // namespace
 
   template <int dim>
@@ -92,7 +170,6 @@ namespace isoimpact
                             const AffineConstraints<double> &constraints,
                             SparseMatrix<double>            &stiffness_matrix)
   {
-    const FEValuesExtractors::Vector     displacement(0);
     std::vector<SymmetricTensor<2, dim>> strain;
     assemble_matrix<dim>(
       discretization,
@@ -100,19 +177,7 @@ namespace isoimpact
       constraints,
       stiffness_matrix,
       [&](const FEValues<dim> &fe_values, FullMatrix<double> &cell_matrix) {
-        strain.resize(fe_values.dofs_per_cell);
-        for (const unsigned int q : fe_values.quadrature_point_indices())
-          {
-            for (const unsigned int i : fe_values.dof_indices())
-              strain[i] = fe_values[displacement].symmetric_gradient(i, q);
-            for (const unsigned int i : fe_values.dof_indices())
-              {
-                const SymmetricTensor<2, dim> stress_i =
-                  material.stress(strain[i]) * fe_values.JxW(q);
-                for (const unsigned int j : fe_values.dof_indices())
-                  cell_matrix(i, j) += stress_i * strain[j];
-              }
-          }
+        local_stiffness_matrix(fe_values, material, strain, cell_matrix);
       });
   }
 
@@ -159,48 +224,15 @@ namespace isoimpact
         cell_matrix = 0.;
         local_mass_matrix(fe_values, density, cell_matrix);
 
-        // Mass of the element (each displacement component carries it).
-        double element_mass = 0.;
-        for (const unsigned int q : fe_values.quadrature_point_indices())
-          element_mass += density * fe_values.JxW(q);
-
-        for (unsigned int i = 0; i < n; ++i)
-          {
-            cell_mass(i) = 0.;
-            if (scheme == MassScheme::row_sum)
-              for (unsigned int j = 0; j < n; ++j)
-                cell_mass(i) += cell_matrix(i, j);
-            else
-              cell_mass(i) = cell_matrix(i, i);
-          }
-        if (scheme == MassScheme::hrz)
-          for (unsigned int c = 0; c < fe.n_components(); ++c)
-            {
-              double diagonal_sum = 0.;
-              for (unsigned int i = 0; i < n; ++i)
-                if (fe.system_to_component_index(i).first == c)
-                  diagonal_sum += cell_mass(i);
-              for (unsigned int i = 0; i < n; ++i)
-                if (fe.system_to_component_index(i).first == c)
-                  cell_mass(i) *= element_mass / diagonal_sum;
-            }
-
-        for (unsigned int i = 0; i < n; ++i)
-          if (!(cell_mass(i) > 0.))
-            {
-              std::ostringstream message;
-              message << to_string(scheme)
-                      << " mass lumping gives the non-positive mass "
-                      << cell_mass(i) << " kg/m ("
-                      << cell_mass(i) / element_mass
-                      << " of the element mass) to local function " << i
-                      << " of element " << cell->id()
-                      << " of the discretisation " << discretization.name()
-                      << ": a lumped mass must be positive for explicit "
-                         "dynamics; choose another mass matrix (HRZ or "
-                         "consistent)";
-              AssertThrow(false, ExcMessage(message.str()));
-            }
+        std::ostringstream where;
+        where << cell->id() << " of the discretisation "
+              << discretization.name();
+        local_lumped_mass(fe_values,
+                          density,
+                          scheme,
+                          cell_matrix,
+                          where.str(),
+                          cell_mass);
 
         discretization.get_dof_indices(cell, indices);
         constraints.distribute_local_to_global(cell_mass, indices, lumped);
@@ -276,6 +308,51 @@ namespace isoimpact
       }
   }
 
+  template <int dim>
+  void
+  for_each_element(const Discretization<dim> &discretization,
+                   const ElasticMaterial     &material,
+                   const MassScheme           scheme,
+                   const ElementVisitor      &visit)
+  {
+    const auto                          &fe = discretization.fe();
+    FEValues<dim>                        fe_values(discretization.mapping(),
+                            fe,
+                            discretization.cell_quadrature(),
+                            update_values | update_gradients |
+                              update_JxW_values);
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    FullMatrix<double>                   stiffness(n, n), mass(n, n);
+    Vector<double>                       cell_mass(n);
+    std::vector<SymmetricTensor<2, dim>> strain;
+    std::vector<types::global_dof_index> indices;
+    for (const auto &cell :
+         discretization.dof_handler().active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        stiffness = 0.;
+        mass      = 0.;
+        local_stiffness_matrix(fe_values, material, strain, stiffness);
+        local_mass_matrix(fe_values, material.density, mass);
+        if (scheme != MassScheme::consistent)
+          {
+            std::ostringstream where;
+            where << cell->id();
+            local_lumped_mass(fe_values,
+                              material.density,
+                              scheme,
+                              mass,
+                              where.str(),
+                              cell_mass);
+            mass = 0.;
+            for (unsigned int i = 0; i < n; ++i)
+              mass(i, i) = cell_mass(i);
+          }
+        discretization.get_dof_indices(cell, indices);
+        visit(indices, stiffness, mass);
+      }
+  }
+
   template void
   make_sparsity_pattern(const Discretization<2> &,
                         const AffineConstraints<double> &,
@@ -302,4 +379,9 @@ namespace isoimpact
                        Vector<double> &);
   template double
   integrate_mass(const Discretization<2> &, const double);
+  template void
+  for_each_element(const Discretization<2> &,
+                   const ElasticMaterial &,
+                   const MassScheme,
+                   const ElementVisitor &);
 } // namespace isoimpact

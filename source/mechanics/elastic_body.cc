@@ -236,8 +236,15 @@ namespace isoimpact
   template <int dim>
   double
   ElasticBody<dim>::estimate_critical_time_step(
-    const unsigned int n_iterations) const
+    const unsigned int          n_iterations,
+    const SparseMatrix<double> *additional_stiffness) const
   {
+    const auto stiffness_vmult = [&](Vector<double>       &y,
+                                     const Vector<double> &x) {
+      stiffness.vmult(y, x);
+      if (additional_stiffness)
+        additional_stiffness->vmult_add(y, x);
+    };
     // Power iteration on M^{-1} K in the M inner product.
     Vector<double>                         x(n_dofs()), y(n_dofs());
     std::mt19937                           generator(42);
@@ -248,14 +255,14 @@ namespace isoimpact
     double lambda = 0.;
     for (unsigned int it = 0; it < n_iterations; ++it)
       {
-        stiffness.vmult(y, x);
+        stiffness_vmult(y, x);
         body_constraints.set_zero(y);
         solve_mass(x, y);
         body_constraints.set_zero(x);
         Vector<double> mx(n_dofs());
         mass_vmult(mx, x);
         const double norm = std::sqrt(mx * x);
-        stiffness.vmult(y, x);
+        stiffness_vmult(y, x);
         lambda = (y * x) / (norm * norm);
         x /= norm;
       }
@@ -263,6 +270,13 @@ namespace isoimpact
                 ExcMessage("critical time step estimate failed for body " +
                            body_name));
     return 2. / std::sqrt(lambda);
+  }
+
+  template <int dim>
+  const Vector<double> &
+  ElasticBody<dim>::lumped_masses() const
+  {
+    return lumped_mass;
   }
 
   template class ElasticBody<2>;

@@ -3,6 +3,7 @@
 #ifndef isoimpact_assembly_h
 #define isoimpact_assembly_h
 
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 
@@ -80,6 +81,25 @@ namespace isoimpact
                                             &body_force,
     const dealii::AffineConstraints<double> &constraints,
     dealii::Vector<double>                  &rhs);
+
+  /**
+   * Called for every element with its unknowns, its stiffness matrix and its
+   * share of the mass matrix in use: the consistent element matrix, or the
+   * diagonal matrix of the element's lumped masses (row-sum or HRZ), whose
+   * assembly is the lumped mass. Element-level analyses (the stable time
+   * step bound) use it.
+   */
+  using ElementVisitor =
+    std::function<void(const std::vector<dealii::types::global_dof_index> &,
+                       const dealii::FullMatrix<double> &stiffness,
+                       const dealii::FullMatrix<double> &mass)>;
+
+  template <int dim>
+  void
+  for_each_element(const Discretization<dim> &discretization,
+                   const ElasticMaterial     &material,
+                   const MassScheme           scheme,
+                   const ElementVisitor      &visit);
 
   // Integral of the density over the mesh (exact geometry of the mapping).
   template <int dim>

@@ -69,13 +69,19 @@ namespace isoimpact
 
     /**
      * Estimate of the stable step of central differences, 2 / omega_max,
-     * omega_max^2 = lambda_max(M^{-1} K) by power iteration (without
-     * contact stiffness). Power iteration approaches lambda_max from below,
+     * omega_max^2 = lambda_max(M^{-1} (K + K_c)) by power iteration, K_c an
+     * optional additional stiffness (contact springs) on the sparsity
+     * pattern of K. Power iteration approaches lambda_max from below,
      * so the estimate approaches the critical step from above (4e-4 relative
      * after 200 iterations in tests/free_flight.cc): keep a margin.
      */
     double
-    estimate_critical_time_step(const unsigned int n_iterations = 200) const;
+    estimate_critical_time_step(
+      const unsigned int                  n_iterations         = 200,
+      const dealii::SparseMatrix<double> *additional_stiffness = nullptr) const;
+    // The diagonal of a lumped mass matrix (empty for consistent mass).
+    const dealii::Vector<double> &
+    lumped_masses() const;
 
     // The state: displacement, velocity and acceleration at the current
     // time, in the unknowns of the discretisation.

@@ -1,0 +1,236 @@
+// Layer 4: stable time step bounds and estimate.
+#include <deal.II/base/quadrature_lib.h>
+
+#include <isoimpact/mechanics/stable_time_step.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+using namespace dealii;
+
+namespace isoimpact
+{
+  double
+  StableTimeStep::bound() const
+  {
+    return std::max(element_bound, gershgorin_bound);
+  }
+
+  StableTimeStep
+  StableTimeStep::min(const StableTimeStep &other) const
+  {
+    return {std::min(element_bound, other.element_bound),
+            std::min(gershgorin_bound, other.gershgorin_bound),
+            std::min(power_estimate, other.power_estimate)};
+  }
+
+  namespace
+  {
+    double
+    time_step_from_eigenvalue(const double lambda)
+    {
+      return lambda > 0. ? 2. / std::sqrt(lambda) :
+                           std::numeric_limits<double>::infinity();
+    }
+
+    // The spring matrix of one segment, k int R_i R_j (e_a . e_b) ds over
+    // the reference surface, with e_a . e_b = n_a n_b (`normal_only`: the
+    // linearised penalty) or delta_ab (its upper bound). Rows and columns
+    // are the segment's unknowns, node by node and component by component.
+    template <int dim>
+    FullMatrix<double>
+    segment_spring_matrix(const BoundarySegment<dim> &segment,
+                          const double                stiffness,
+                          const bool                  normal_only)
+    {
+      const unsigned int  n_nodes = segment.node_positions.size();
+      FullMatrix<double>  matrix(n_nodes * dim, n_nodes * dim);
+      const QGauss<1>     quadrature(segment.degree + 2);
+      std::vector<double> values, derivatives;
+      for (unsigned int q = 0; q < quadrature.size(); ++q)
+        {
+          evaluate_segment_basis(segment,
+                                 quadrature.point(q)[0],
+                                 values,
+                                 derivatives);
+          Tensor<1, dim> tangent;
+          for (unsigned int k = 0; k < n_nodes; ++k)
+            tangent += derivatives[k] * segment.node_positions[k];
+          const double   ds = tangent.norm() * quadrature.weight(q);
+          Tensor<1, dim> normal;
+          normal[0] = tangent[1] / tangent.norm();
+          normal[1] = -tangent[0] / tangent.norm();
+          for (unsigned int i = 0; i < n_nodes; ++i)
+            for (unsigned int j = 0; j < n_nodes; ++j)
+              for (unsigned int a = 0; a < dim; ++a)
+                for (unsigned int b = 0; b < dim; ++b)
+                  matrix(i * dim + a, j * dim + b) +=
+                    stiffness * values[i] * values[j] * ds *
+                    (normal_only ? normal[a] * normal[b] : double(a == b));
+        }
+      return matrix;
+    }
+
+    template <int dim>
+    std::vector<types::global_dof_index>
+    segment_dofs(const BoundarySegment<dim> &segment)
+    {
+      std::vector<types::global_dof_index> dofs;
+      for (const auto &node : segment.node_dofs)
+        dofs.insert(dofs.end(), node.begin(), node.end());
+      return dofs;
+    }
+
+    // lambda_max(K, M) of a small symmetric pencil, M positive definite.
+    double
+    largest_eigenvalue(const FullMatrix<double>        &stiffness,
+                       const FullMatrix<double>        &mass,
+                       const std::vector<unsigned int> &rows)
+    {
+      const unsigned int n = rows.size();
+      Eigen::MatrixXd    k(n, n), m(n, n);
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int j = 0; j < n; ++j)
+          {
+            k(i, j) = stiffness(rows[i], rows[j]);
+            m(i, j) = mass(rows[i], rows[j]);
+          }
+      const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd>
+        solver(k, m, Eigen::EigenvaluesOnly);
+      AssertThrow(solver.info() == Eigen::Success,
+                  ExcMessage("element eigenvalue problem failed"));
+      return solver.eigenvalues().maxCoeff();
+    }
+  } // namespace
+
+  template <int dim>
+  StableTimeStep
+  compute_stable_time_step(const ElasticBody<dim>                &body,
+                           const std::vector<SurfaceSpring<dim>> &springs,
+                           const unsigned int n_power_iterations)
+  {
+    const auto &constraints = body.constraints();
+    const bool  lumped      = body.mass_scheme() != MassScheme::consistent;
+
+    // The springs, once as the linearised penalty (for the estimate) and
+    // once as its upper bound (for the bounds), per segment.
+    struct SegmentSpring
+    {
+      std::vector<types::global_dof_index> dofs;
+      FullMatrix<double>                   bound;
+    };
+    std::vector<SegmentSpring> segment_springs;
+    SparseMatrix<double>       spring_matrix(
+      body.stiffness_matrix().get_sparsity_pattern());
+    SparseMatrix<double> spring_bound_matrix(
+      body.stiffness_matrix().get_sparsity_pattern());
+    for (const auto &spring : springs)
+      for (const auto &segment : *spring.segments)
+        {
+          const auto dofs = segment_dofs(segment);
+          constraints.distribute_local_to_global(
+            segment_spring_matrix(segment, spring.stiffness, true),
+            dofs,
+            spring_matrix);
+          segment_springs.push_back(
+            {dofs, segment_spring_matrix(segment, spring.stiffness, false)});
+          constraints.distribute_local_to_global(segment_springs.back().bound,
+                                                 dofs,
+                                                 spring_bound_matrix);
+        }
+
+    StableTimeStep result;
+    result.power_estimate =
+      body.estimate_critical_time_step(n_power_iterations, &spring_matrix);
+
+    // Element by element: every segment joins the first element that holds
+    // all its unknowns. Unknowns fixed to zero are left out (a subspace);
+    // with hanging nodes a condensed lumped mass is not the sum of the
+    // element masses, and the bound does not apply.
+    std::multimap<types::global_dof_index, unsigned int> segments_by_dof;
+    for (unsigned int s = 0; s < segment_springs.size(); ++s)
+      segments_by_dof.emplace(*std::min_element(segment_springs[s].dofs.begin(),
+                                                segment_springs[s].dofs.end()),
+                              s);
+    std::vector<bool> segment_used(segment_springs.size(), false);
+    bool              element_bound_applies = true;
+    double            element_lambda        = 0.;
+    for_each_element<dim>(
+      body.discretization(),
+      body.material(),
+      body.mass_scheme(),
+      [&](const std::vector<types::global_dof_index> &indices,
+          const FullMatrix<double>                   &element_stiffness,
+          const FullMatrix<double>                   &element_mass) {
+        FullMatrix<double>        stiffness = element_stiffness;
+        std::vector<unsigned int> free_rows;
+        for (unsigned int i = 0; i < indices.size(); ++i)
+          {
+            if (!constraints.is_constrained(indices[i]))
+              free_rows.push_back(i);
+            else if (!constraints.get_constraint_entries(indices[i])->empty())
+              element_bound_applies &= !lumped;
+            const auto range = segments_by_dof.equal_range(indices[i]);
+            for (auto it = range.first; it != range.second; ++it)
+              {
+                const auto               &spring = segment_springs[it->second];
+                std::vector<unsigned int> local(spring.dofs.size());
+                bool                      inside = !segment_used[it->second];
+                for (unsigned int d = 0; inside && d < local.size(); ++d)
+                  {
+                    const auto found =
+                      std::find(indices.begin(), indices.end(), spring.dofs[d]);
+                    inside   = found != indices.end();
+                    local[d] = found - indices.begin();
+                  }
+                if (!inside)
+                  continue;
+                segment_used[it->second] = true;
+                for (unsigned int a = 0; a < local.size(); ++a)
+                  for (unsigned int b = 0; b < local.size(); ++b)
+                    stiffness(local[a], local[b]) += spring.bound(a, b);
+              }
+          }
+        if (!free_rows.empty())
+          element_lambda =
+            std::max(element_lambda,
+                     largest_eigenvalue(stiffness, element_mass, free_rows));
+      });
+    AssertThrow(std::find(segment_used.begin(), segment_used.end(), false) ==
+                  segment_used.end(),
+                ExcMessage("a contact segment of " + body.name() +
+                           " lies in no element: stable step bound failed"));
+    if (element_bound_applies)
+      result.element_bound = time_step_from_eigenvalue(element_lambda);
+
+    // Gershgorin on M^{-1} (K + K_c) for a diagonal mass.
+    if (lumped)
+      {
+        const auto &stiffness = body.stiffness_matrix();
+        const auto &mass      = body.lumped_masses();
+        double      lambda    = 0.;
+        for (types::global_dof_index i = 0; i < stiffness.m(); ++i)
+          {
+            if (constraints.is_constrained(i))
+              continue;
+            // Both matrices share the sparsity pattern: walk them together.
+            double row_sum = 0.;
+            auto   spring  = spring_bound_matrix.begin(i);
+            for (auto entry = stiffness.begin(i); entry != stiffness.end(i);
+                 ++entry, ++spring)
+              row_sum += std::abs(entry->value() + spring->value());
+            lambda = std::max(lambda, row_sum / mass(i));
+          }
+        result.gershgorin_bound = time_step_from_eigenvalue(lambda);
+      }
+    return result;
+  }
+
+  template StableTimeStep
+  compute_stable_time_step(const ElasticBody<2> &,
+                           const std::vector<SurfaceSpring<2>> &,
+                           const unsigned int);
+} // namespace isoimpact
