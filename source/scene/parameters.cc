@@ -17,6 +17,27 @@ namespace isoimpact
   {
     const char *body_names[2] = {"Body 1", "Body 2"};
 
+    // A positive number or the word auto (Time integration/Time step).
+    class PositiveNumberOrAuto : public Patterns::PatternBase
+    {
+    public:
+      bool
+      match(const std::string &text) const override
+      {
+        return text == "auto" || Patterns::Double(0.).match(text);
+      }
+      std::string
+      description(const OutputStyle) const override
+      {
+        return "[a floating point number >= 0 or auto]";
+      }
+      std::unique_ptr<PatternBase>
+      clone() const override
+      {
+        return std::make_unique<PositiveNumberOrAuto>();
+      }
+    };
+
     std::string
     point_string(const Point<2> &p)
     {
@@ -222,11 +243,36 @@ namespace isoimpact
     prm.leave_subsection();
 
     prm.enter_subsection("Time integration");
-    prm.declare_entry("Time step",
-                      "5e-4",
-                      Patterns::Double(0.),
-                      "Central difference step, s (> 0).");
+    prm.declare_entry(
+      "Time step",
+      "5e-4",
+      PositiveNumberOrAuto(),
+      "Central difference step, s (> 0), or auto: the safety factor times "
+      "the guaranteed stable step bound, which includes the contact "
+      "penalty (doc/stability.md).");
+    prm.declare_entry("Time step safety factor",
+                      "0.9",
+                      Patterns::Double(0., 1.),
+                      "Fraction of the stable step bound taken with "
+                      "Time step = auto, in (0, 1].");
+    prm.declare_entry("Allow time step above the stable estimate",
+                      "false",
+                      Patterns::Bool(),
+                      "A given time step above the stable step bound is "
+                      "refused unless this is true (the stability monitor "
+                      "still stops a run that blows up).");
     prm.declare_entry("End time", "0.9", Patterns::Double(0.), "s (> 0).");
+    prm.declare_entry("Energy growth tolerance",
+                      "0.1",
+                      Patterns::Double(0.),
+                      "The run stops as unstable when the total energy "
+                      "exceeds the input energy by this fraction of it.");
+    prm.declare_entry("Maximum penetration",
+                      "0.25",
+                      Patterns::Double(0.),
+                      "The run stops as unstable when a contact "
+                      "penetration exceeds this fraction of the smallest "
+                      "body size (radius, or half the shorter side).");
     prm.leave_subsection();
 
     prm.enter_subsection("Output");
@@ -351,8 +397,15 @@ namespace isoimpact
     prm.leave_subsection();
 
     prm.enter_subsection("Time integration");
-    time_step = prm.get_double("Time step");
-    end_time  = prm.get_double("End time");
+    const std::string step_text = prm.get("Time step");
+    automatic_time_step         = (step_text == "auto");
+    time_step               = automatic_time_step ? 0. : std::stod(step_text);
+    time_step_safety_factor = prm.get_double("Time step safety factor");
+    allow_time_step_above_bound =
+      prm.get_bool("Allow time step above the stable estimate");
+    end_time                = prm.get_double("End time");
+    energy_growth_tolerance = prm.get_double("Energy growth tolerance");
+    maximum_penetration     = prm.get_double("Maximum penetration");
     prm.leave_subsection();
 
     prm.enter_subsection("Output");
@@ -454,15 +507,20 @@ namespace isoimpact
               "Contact/Penalty",
               parameters.contact.penalty,
               "it must be positive");
-    require(parameters.time_step > 0.,
+    require(parameters.automatic_time_step || parameters.time_step > 0.,
             "Time integration/Time step",
             parameters.time_step,
-            "it must be positive");
+            "it must be positive or auto");
+    require(parameters.time_step_safety_factor > 0.,
+            "Time integration/Time step safety factor",
+            parameters.time_step_safety_factor,
+            "it must lie in (0, 1]");
     require(parameters.end_time > 0.,
             "Time integration/End time",
             parameters.end_time,
             "it must be positive");
-    require(parameters.time_step <= parameters.end_time,
+    require(parameters.automatic_time_step ||
+              parameters.time_step <= parameters.end_time,
             "Time integration/Time step",
             parameters.time_step,
             "it must not exceed the end time");

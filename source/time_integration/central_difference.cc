@@ -116,6 +116,16 @@ namespace isoimpact
   }
 
   template <int dim>
+  double
+  CentralDifference<dim>::kinetic_energy() const
+  {
+    double energy = 0.;
+    for (const auto *body : bodies)
+      energy += body->kinetic_energy(body->velocity);
+    return energy;
+  }
+
+  template <int dim>
   EnergyBalance
   CentralDifference<dim>::energy_balance() const
   {

@@ -69,6 +69,9 @@ namespace isoimpact
 
     EnergyBalance
     energy_balance() const;
+    // Kinetic energy of the bodies alone (no product with the stiffness).
+    double
+    kinetic_energy() const;
 
     // Contact result of the last evaluation, per interaction.
     const std::vector<ContactResult<dim>> &

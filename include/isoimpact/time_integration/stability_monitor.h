@@ -1,0 +1,54 @@
+// Layer 5: the stability monitor of an explicit run. Central differences
+// above their stable step (or with a contact stiffer than the step allows)
+// blow up exponentially; the monitor finds that early and says what grew,
+// so that a run stops instead of writing garbage.
+#ifndef isoimpact_stability_monitor_h
+#define isoimpact_stability_monitor_h
+
+#include <isoimpact/time_integration/central_difference.h>
+
+#include <string>
+
+namespace isoimpact
+{
+  struct StabilityLimits
+  {
+    // The energy put into the bodies (J/m, modelled bodies): the total
+    // energy at t = 0 for a free impact.
+    double input_energy = 0.;
+    // Fraction of the input energy by which the energy may grow.
+    double energy_growth_tolerance = 0.1;
+    // Deepest admissible penetration of a contact, m.
+    double maximum_penetration = 0.;
+  };
+
+  template <int dim>
+  class StabilityMonitor
+  {
+  public:
+    StabilityMonitor(const CentralDifference<dim> &integrator,
+                     const StabilityLimits        &limits);
+
+    /**
+     * Checks the state after a step, cheaply enough for every step: the
+     * kinetic plus contact energy (which the total energy bounds from above,
+     * strain energy being non-negative) against the input energy, every
+     * value finite, and the deepest penetration. Returns an empty string if
+     * the state is sound, else what went wrong.
+     */
+    std::string
+    check() const;
+
+    /**
+     * The same with a total energy computed anyway (at history steps).
+     */
+    std::string
+    check_total_energy(const double total_energy) const;
+
+  private:
+    const CentralDifference<dim> &integrator;
+    const StabilityLimits         limits;
+  };
+} // namespace isoimpact
+
+#endif

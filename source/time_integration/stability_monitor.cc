@@ -1,0 +1,62 @@
+// Layer 5: stability monitor.
+#include <isoimpact/time_integration/stability_monitor.h>
+
+#include <cmath>
+#include <sstream>
+
+using namespace dealii;
+
+namespace isoimpact
+{
+  template <int dim>
+  StabilityMonitor<dim>::StabilityMonitor(
+    const CentralDifference<dim> &integrator,
+    const StabilityLimits        &limits)
+    : integrator(integrator)
+    , limits(limits)
+  {}
+
+  template <int dim>
+  std::string
+  StabilityMonitor<dim>::check() const
+  {
+    double energy      = integrator.kinetic_energy();
+    double penetration = 0.;
+    for (const auto &result : integrator.contact_results())
+      {
+        energy += result.energy;
+        penetration = std::max(penetration, result.max_penetration);
+        if (!std::isfinite(result.force_on_body_0.norm()))
+          return "the contact force became non-finite";
+      }
+    if (!std::isfinite(energy))
+      return "the kinetic energy became non-finite";
+    if (!(penetration <= limits.maximum_penetration))
+      {
+        std::ostringstream message;
+        message << "a contact penetration of " << penetration
+                << " m exceeds the maximum of " << limits.maximum_penetration
+                << " m (Time integration/Maximum penetration)";
+        return message.str();
+      }
+    return check_total_energy(energy);
+  }
+
+  template <int dim>
+  std::string
+  StabilityMonitor<dim>::check_total_energy(const double total_energy) const
+  {
+    const double limit =
+      (1. + limits.energy_growth_tolerance) * limits.input_energy;
+    if (std::isfinite(total_energy) && total_energy <= limit)
+      return "";
+    std::ostringstream message;
+    message << "the energy grew to " << total_energy << " J/m, above " << limit
+            << " J/m = (1 + " << limits.energy_growth_tolerance
+            << ") times the input energy " << limits.input_energy
+            << " J/m (Time integration/Energy growth tolerance)";
+    return message.str();
+  }
+
+  template class StabilityMonitor<2>;
+} // namespace isoimpact
