@@ -401,6 +401,14 @@ namespace isoimpact
   }
 
   template <int dim>
+  std::vector<SurfaceSpring<dim>>
+  PenaltyContact<dim>::surface_springs() const
+  {
+    return {{&surfaces[0].segments, 4. * penalty_per_pass()},
+            {&surfaces[1].segments, 4. * penalty_per_pass()}};
+  }
+
+  template <int dim>
   double
   PenaltyContact<dim>::penalty_per_pass() const
   {

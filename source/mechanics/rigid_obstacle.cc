@@ -161,6 +161,13 @@ namespace isoimpact
   }
 
   template <int dim>
+  std::vector<SurfaceSpring<dim>>
+  RigidObstacleContact<dim>::surface_springs() const
+  {
+    return {{&segments, settings.penalty}};
+  }
+
+  template <int dim>
   double
   RigidObstacleContact<dim>::penalty() const
   {

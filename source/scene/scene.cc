@@ -1,6 +1,9 @@
 // Layer 6: building a scene.
 #include <isoimpact/scene/scene.h>
 
+#include <cmath>
+#include <sstream>
+
 using namespace dealii;
 
 namespace isoimpact
@@ -122,5 +125,33 @@ namespace isoimpact
                                                    parameters.approach_law));
       }
     return scene;
+  }
+
+  double
+  select_time_step(const Parameters     &parameters,
+                   const StableTimeStep &stable,
+                   const std::string    &parameter_file)
+  {
+    const double bound = stable.bound();
+    AssertThrow(bound > 0. && std::isfinite(bound),
+                ExcMessage("the stable time step bound is " +
+                           std::to_string(bound) +
+                           " s: no step can be chosen"));
+    if (parameters.automatic_time_step)
+      return parameters.time_step_safety_factor * bound;
+    if (parameters.time_step > bound && !parameters.allow_time_step_above_bound)
+      {
+        std::ostringstream message;
+        message << "in parameter file '" << parameter_file
+                << "': parameter 'Time integration/Time step' has the value "
+                << parameters.time_step
+                << "; it must not exceed the stable step bound " << bound
+                << " s of this scene (power estimate " << stable.power_estimate
+                << " s; both include the contact penalty). Use Time step = "
+                   "auto, a smaller step, or set 'Allow time step above the "
+                   "stable estimate = true'";
+        throw InputError(message.str());
+      }
+    return parameters.time_step;
   }
 } // namespace isoimpact

@@ -9,6 +9,27 @@ using namespace dealii;
 namespace isoimpact
 {
   template <int dim>
+  StableTimeStep
+  scene_stable_time_step(const std::vector<ElasticBody<dim> *>      &bodies,
+                         const std::vector<ContactInteraction<dim>> &contacts)
+  {
+    std::vector<std::vector<SurfaceSpring<dim>>> springs(bodies.size());
+    for (const auto &interaction : contacts)
+      {
+        const auto model_springs = interaction.contact->surface_springs();
+        springs[interaction.first_body].push_back(model_springs[0]);
+        if (model_springs.size() > 1)
+          springs[interaction.second_body].push_back(model_springs[1]);
+      }
+    StableTimeStep step;
+    step.element_bound = step.gershgorin_bound =
+      std::numeric_limits<double>::infinity();
+    for (unsigned int b = 0; b < bodies.size(); ++b)
+      step = step.min(compute_stable_time_step(*bodies[b], springs[b]));
+    return step;
+  }
+
+  template <int dim>
   StabilityMonitor<dim>::StabilityMonitor(
     const CentralDifference<dim> &integrator,
     const StabilityLimits        &limits)
@@ -58,5 +79,8 @@ namespace isoimpact
     return message.str();
   }
 
+  template StableTimeStep
+  scene_stable_time_step(const std::vector<ElasticBody<2> *> &,
+                         const std::vector<ContactInteraction<2>> &);
   template class StabilityMonitor<2>;
 } // namespace isoimpact

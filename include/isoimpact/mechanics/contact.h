@@ -123,6 +123,19 @@ namespace isoimpact
                          dealii::Vector<double>       &f);
 
   /**
+   * A penalty spring on a contact surface of a body: `stiffness` (Pa/m) is a
+   * traction per unit normal displacement of the surface that bounds what
+   * the contact model can exert there. Used for the stable time step bound
+   * (mechanics/stable_time_step.h), with the whole surface active.
+   */
+  template <int dim>
+  struct SurfaceSpring
+  {
+    const std::vector<BoundarySegment<dim>> *segments  = nullptr;
+    double                                   stiffness = 0.;
+  };
+
+  /**
    * The interface through which the time integrator (layer 5) sees a contact
    * model: it acts on one body (against a rigid obstacle) or two. evaluate()
    * is the one entry of every model.
@@ -149,6 +162,11 @@ namespace isoimpact
     // One line for the program's set-up report.
     virtual std::string
     description() const = 0;
+
+    // The penalty spring the model can put on the surface of each of its
+    // bodies (entry b for body b of evaluate()).
+    virtual std::vector<SurfaceSpring<dim>>
+    surface_springs() const = 0;
   };
 
   /**
@@ -175,6 +193,13 @@ namespace isoimpact
 
     std::string
     description() const override;
+
+    // 4 eps_pass on both surfaces: linearised, a point of one surface and
+    // its projection on the other are joined by eps_pass n (x) n, and
+    // (a - b)^2 <= 2 a^2 + 2 b^2 splits that into 2 eps_pass on each; each
+    // surface projects in one pass and is projected on in the other.
+    std::vector<SurfaceSpring<dim>>
+    surface_springs() const override;
 
     double
     penalty_per_pass() const;

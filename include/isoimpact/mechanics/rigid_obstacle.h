@@ -108,6 +108,10 @@ namespace isoimpact
     std::string
     description() const override;
 
+    // The obstacle's penalty on the body's surface.
+    std::vector<SurfaceSpring<dim>>
+    surface_springs() const override;
+
     const RigidObstacle<dim> &
     obstacle() const;
 

@@ -5,6 +5,7 @@
 #ifndef isoimpact_stable_time_step_h
 #define isoimpact_stable_time_step_h
 
+#include <isoimpact/mechanics/contact.h>
 #include <isoimpact/mechanics/elastic_body.h>
 #include <isoimpact/discretization/boundary_segments.h>
 
@@ -13,20 +14,6 @@
 
 namespace isoimpact
 {
-  /**
-   * A penalty spring on a contact surface of a body: `stiffness` (Pa/m) is a
-   * traction per unit normal displacement of the surface that bounds what
-   * the contact model can exert (for a two-pass contact of two bodies,
-   * 4 eps_pass: see doc/stability.md). The springs are integrated over the
-   * reference surface, all of it active: the worst case of the run.
-   */
-  template <int dim>
-  struct SurfaceSpring
-  {
-    const std::vector<BoundarySegment<dim>> *segments  = nullptr;
-    double                                   stiffness = 0.;
-  };
-
   /**
    * Stable steps in seconds. The two bounds are guaranteed not to exceed
    * the critical step of the linearised system (each from an upper bound on

@@ -7,6 +7,7 @@
 #include <isoimpact/scene/hertz_reference.h>
 #include <isoimpact/scene/parameters.h>
 #include <isoimpact/time_integration/central_difference.h>
+#include <isoimpact/time_integration/stability_monitor.h>
 
 #include <memory>
 #include <vector>
@@ -42,6 +43,16 @@ namespace isoimpact
   // Throws InputError (or deal.II's exceptions for inadmissible lumping).
   Scene
   build_scene(const Parameters &parameters);
+
+  /**
+   * The time step of the run: with Time step = auto the safety factor times
+   * the guaranteed bound `stable`; a given step above the bound throws an
+   * InputError naming both (unless the parameters allow it).
+   */
+  double
+  select_time_step(const Parameters     &parameters,
+                   const StableTimeStep &stable,
+                   const std::string    &parameter_file);
 } // namespace isoimpact
 
 #endif

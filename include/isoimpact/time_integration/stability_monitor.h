@@ -5,12 +5,22 @@
 #ifndef isoimpact_stability_monitor_h
 #define isoimpact_stability_monitor_h
 
+#include <isoimpact/mechanics/stable_time_step.h>
 #include <isoimpact/time_integration/central_difference.h>
 
 #include <string>
 
 namespace isoimpact
 {
+  /**
+   * The stable step of a scene: each body with the penalty springs of the
+   * contacts it takes part in, the minimum over the bodies.
+   */
+  template <int dim>
+  StableTimeStep
+  scene_stable_time_step(const std::vector<ElasticBody<dim> *>      &bodies,
+                         const std::vector<ContactInteraction<dim>> &contacts);
+
   struct StabilityLimits
   {
     // The energy put into the bodies (J/m, modelled bodies): the total
