@@ -208,12 +208,15 @@ namespace isoimpact
     prm.enter_subsection("Obstacle");
     prm.declare_entry("Type",
                       "none",
-                      Patterns::Selection("none|plane|cylinder"),
+                      Patterns::Selection("none|plane|cylinder|channel"),
                       "A rigid, fixed, frictionless obstacle. none: the "
                       "scene is Body 1 against Body 2 (two-pass contact). "
                       "plane or cylinder: the scene is Body 1 against the "
                       "obstacle (penalty contact of Body 1's arc, see "
-                      "Penalty below); Body 2 is then ignored entirely.");
+                      "Penalty below); Body 2 is then ignored entirely. "
+                      "channel: two parallel planes, the plane and its "
+                      "mirror through Opposite point, Body 1 between them "
+                      "(repeated impacts; needs Analytic reference = none).");
     prm.declare_entry("Point",
                       "0, 0",
                       Patterns::List(Patterns::Double(), 2, 2),
@@ -223,6 +226,11 @@ namespace isoimpact
                       Patterns::List(Patterns::Double(), 2, 2),
                       "plane: normal pointing out of the obstacle, towards "
                       "the body (non-zero; normalised by the program).");
+    prm.declare_entry("Opposite point",
+                      "0, 10",
+                      Patterns::List(Patterns::Double(), 2, 2),
+                      "channel: a point of the second plane, whose normal "
+                      "is -Normal, m (on the side Normal points to).");
     prm.declare_entry("Center",
                       "0, -4",
                       Patterns::List(Patterns::Double(), 2, 2),
@@ -384,16 +392,18 @@ namespace isoimpact
     prm.leave_subsection();
 
     prm.enter_subsection("Obstacle");
-    obstacle.type      = prm.get("Type");
-    const auto p       = parse_doubles(prm.get("Point"));
-    obstacle.point     = Point<2>(p[0], p[1]);
-    const auto n       = parse_doubles(prm.get("Normal"));
-    obstacle.normal[0] = n[0];
-    obstacle.normal[1] = n[1];
-    const auto oc      = parse_doubles(prm.get("Center"));
-    obstacle.center    = Point<2>(oc[0], oc[1]);
-    obstacle.radius    = prm.get_double("Radius");
-    obstacle.penalty   = prm.get_double("Penalty");
+    obstacle.type           = prm.get("Type");
+    const auto p            = parse_doubles(prm.get("Point"));
+    obstacle.point          = Point<2>(p[0], p[1]);
+    const auto n            = parse_doubles(prm.get("Normal"));
+    obstacle.normal[0]      = n[0];
+    obstacle.normal[1]      = n[1];
+    const auto op           = parse_doubles(prm.get("Opposite point"));
+    obstacle.opposite_point = Point<2>(op[0], op[1]);
+    const auto oc           = parse_doubles(prm.get("Center"));
+    obstacle.center         = Point<2>(oc[0], oc[1]);
+    obstacle.radius         = prm.get_double("Radius");
+    obstacle.penalty        = prm.get_double("Penalty");
     prm.leave_subsection();
 
     prm.enter_subsection("Time integration");
@@ -525,7 +535,20 @@ namespace isoimpact
             parameters.time_step,
             "it must not exceed the end time");
     const auto &obstacle = parameters.obstacle;
-    if (obstacle.type == "plane")
+    if (obstacle.type == "channel")
+      {
+        require((obstacle.opposite_point - obstacle.point) * obstacle.normal >
+                  0.,
+                "Obstacle/Opposite point",
+                "(" + point_string(obstacle.opposite_point) + ")",
+                "the second plane of a channel must lie on the side that "
+                "Obstacle/Normal points to");
+        require(parameters.approach_law == "none",
+                "Output/Analytic reference",
+                parameters.approach_law,
+                "a channel has no analytic Hertz reference: set none");
+      }
+    if (obstacle.type == "plane" || obstacle.type == "channel")
       require(obstacle.normal.norm() > 0. &&
                 std::isfinite(obstacle.normal.norm()),
               "Obstacle/Normal",

@@ -56,19 +56,28 @@ namespace isoimpact
     Tensor<1, 2> relative_velocity = -parameters.bodies[0].initial_velocity;
     if (obstacle.active())
       {
-        const RigidObstacle<2> rigid =
-          obstacle.type == "plane" ?
-            RigidObstacle<2>::plane(obstacle.point, obstacle.normal) :
-            RigidObstacle<2>::cylinder(obstacle.center, obstacle.radius);
+        std::vector<RigidObstacle<2>> rigid;
+        if (obstacle.type == "cylinder")
+          rigid.push_back(
+            RigidObstacle<2>::cylinder(obstacle.center, obstacle.radius));
+        else
+          rigid.push_back(
+            RigidObstacle<2>::plane(obstacle.point, obstacle.normal));
+        if (obstacle.type == "channel")
+          rigid.push_back(
+            RigidObstacle<2>::plane(obstacle.opposite_point, -obstacle.normal));
         ObstacleContactSettings settings;
         settings.penalty             = obstacle.penalty;
         settings.n_quadrature_points = parameters.contact.n_quadrature_points;
-        scene.contacts.push_back(std::make_unique<RigidObstacleContact<2>>(
-          settings,
-          rigid,
-          scene.bodies[0]->discretization().boundary_segments(
-            BodyGeometry::curved_boundary_id)));
-        scene.interactions.push_back({scene.contacts.back().get(), 0});
+        for (const auto &wall : rigid)
+          {
+            scene.contacts.push_back(std::make_unique<RigidObstacleContact<2>>(
+              settings,
+              wall,
+              scene.bodies[0]->discretization().boundary_segments(
+                BodyGeometry::curved_boundary_id)));
+            scene.interactions.push_back({scene.contacts.back().get(), 0});
+          }
       }
     else
       {

@@ -40,12 +40,13 @@ namespace isoimpact
   // Body 2 is ignored.
   struct ObstacleParameters
   {
-    std::string          type = "none"; // none, plane, cylinder
+    std::string          type = "none"; // none, plane, cylinder, channel
     dealii::Point<2>     point;         // plane
     dealii::Tensor<1, 2> normal;        // plane, out of the obstacle
-    dealii::Point<2>     center  = dealii::Point<2>(0., -4.); // cylinder
-    double               radius  = 4.;                        // cylinder
-    double               penalty = 2e5;                       // Pa/m
+    dealii::Point<2>     opposite_point = dealii::Point<2>(0., 10.); // channel
+    dealii::Point<2>     center         = dealii::Point<2>(0., -4.); // cylinder
+    double               radius         = 4.;                        // cylinder
+    double               penalty        = 2e5;                       // Pa/m
 
     bool
     active() const
