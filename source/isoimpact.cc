@@ -23,8 +23,12 @@
  * step needs only a product with the stiffness matrix and a solve with the
  * mass matrix, which is a division when the mass is lumped (row-sum or HRZ)
  * and a back-substitution with a factorisation computed once when it is
- * consistent. The scheme is stable for time steps below 2/omega_max; the
- * program estimates that limit and prints it.
+ * consistent. The scheme is stable for time steps below 2/omega_max, and
+ * the contact penalty raises omega_max. The program bounds that limit from
+ * below with the contact springs included (doc/stability.md), takes a safe
+ * fraction of it with Time step = auto, refuses a given step above it, and
+ * watches every step so that a run that blows up stops with a message
+ * instead of writing garbage.
  *
  * The reference problem is the dynamic Hertz impact of two cylinders
  * (doc/hertz-reference.md): the program writes the analytic contact force
@@ -57,6 +61,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 using namespace dealii;
 
@@ -73,7 +78,9 @@ namespace isoimpact
   public:
     ImpactProgram(const Parameters  &parameters,
                   const std::string &parameter_file);
-    void
+    // Returns the exit code: 0 if the run completed, 1 if the stability
+    // monitor stopped it.
+    int
     run();
 
   private:
@@ -81,10 +88,12 @@ namespace isoimpact
     print_setup();
     void
     open_output();
-    void
+    ContactResult<2>
+    contact_on_first_body() const;
+    std::string
     record(const bool write_solution, const bool write_profile);
     std::string
-    unstable_message() const;
+    unstable_message(const std::string &reason) const;
     void
     print_progress();
 
@@ -98,10 +107,12 @@ namespace isoimpact
     std::unique_ptr<CentralDifference<2>> integrator;
     std::unique_ptr<SolutionWriter>       solution_writer;
     std::unique_ptr<HistoryWriter>        history;
-    RunSummary                            summary;
-    double                                critical_time_step = 0.;
-    unsigned int                          n_steps            = 0;
-    unsigned int                          next_profile       = 0;
+    std::unique_ptr<StabilityMonitor<2>>  monitor;
+    std::unique_ptr<RunSummary>           summary;
+    StableTimeStep                        stable;
+    double                                time_step    = 0.;
+    unsigned int                          n_steps      = 0;
+    unsigned int                          next_profile = 0;
     Timer                                 wall_clock;
   };
 
@@ -119,7 +130,6 @@ namespace isoimpact
     , parameter_file(parameter_file)
     , pcout(std::cout, true)
     , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
-    , summary(parameters.time_step, parameters.filter_window)
   {}
 
 
@@ -142,13 +152,20 @@ namespace isoimpact
       pcout << "  symmetry: half of each body is modelled; contact force "
                "and energies are reported for the full bodies (factor "
             << scene.symmetry_factor << ")\n";
-    pcout << "  time step " << parameters.time_step
-          << " s; estimated critical step without contact "
-          << critical_time_step << " s (ratio "
-          << parameters.time_step / critical_time_step << ")\n";
-    if (parameters.time_step > critical_time_step)
-      pcout << "  warning: the time step exceeds the estimated critical step; "
-               "the run is likely to become unstable\n";
+    // Both stable steps include the contact penalty: the guaranteed bound
+    // (the larger of the element-by-element and the Gershgorin bound) and
+    // the sharper power-iteration estimate.
+    pcout << "  time step " << time_step << " s"
+          << (parameters.automatic_time_step ? " (auto: " : " (")
+          << time_step / stable.bound()
+          << " of the stable step bound); stable step with contact: bound "
+          << stable.bound() << " s (element " << stable.element_bound
+          << " s, Gershgorin " << stable.gershgorin_bound << " s), estimate "
+          << stable.power_estimate << " s\n";
+    if (time_step > stable.bound())
+      pcout << "  warning: the time step exceeds the stable step bound "
+               "(allowed by 'Allow time step above the stable estimate'); "
+               "the stability monitor stops the run if it blows up\n";
     pcout << "  " << n_steps << " steps to t = " << parameters.end_time
           << " s; output in " << parameters.output_directory << std::endl;
   }
@@ -185,34 +202,62 @@ namespace isoimpact
   // projected on the line of impact; with a half model it is doubled to give
   // the force between the full cylinders, as the analytic reference does.
   // Every step goes into the summary; the energy balance costs two
-  // matrix-vector products and is computed only at history steps. A
-  // non-finite force or energy means that the explicit scheme became
-  // unstable: the run stops with an error rather than printing NaN.
-  void
+  // matrix-vector products and is computed only at history steps, where the
+  // stability monitor checks the total energy too. The step is recorded only
+  // if it is sound; else record() returns what went wrong.
+  ContactResult<2>
+  ImpactProgram::contact_on_first_body() const
+  {
+    // Summed over the interactions that act on body 1 (a channel has two).
+    ContactResult<2> sum;
+    const auto      &results = integrator->contact_results();
+    for (unsigned int i = 0; i < results.size(); ++i)
+      {
+        const auto  &interaction = scene.interactions[i];
+        const double sign        = (interaction.first_body == 0)  ? 1. :
+                                   (interaction.second_body == 0) ? -1. :
+                                                                    0.;
+        const auto  &result      = results[i];
+        sum.energy += result.energy;
+        sum.force_on_body_0 += sign * result.force_on_body_0;
+        sum.max_pressure = std::max(sum.max_pressure, result.max_pressure);
+        sum.max_penetration =
+          std::max(sum.max_penetration, result.max_penetration);
+        sum.n_active_points += result.n_active_points;
+        sum.points.insert(sum.points.end(),
+                          result.points.begin(),
+                          result.points.end());
+      }
+    return sum;
+  }
+
+
+
+  std::string
   ImpactProgram::record(const bool write_solution, const bool write_profile)
   {
-    const auto &result = integrator->contact_results()[0];
-    AssertThrow(std::isfinite(result.force_on_body_0.norm()),
-                ExcMessage(unstable_message()));
-    StepRecord step;
+    const ContactResult<2> result = contact_on_first_body();
+    StepRecord             step;
     step.time = integrator->time();
     step.contact_force =
       scene.symmetry_factor * (result.force_on_body_0 * scene.impact_direction);
     step.max_pressure = result.max_pressure;
     step.in_contact   = result.n_active_points > 0;
+    step.penetration  = result.max_penetration;
 
     if (integrator->step_number() % parameters.history_interval == 0)
       {
         const EnergyBalance energy = integrator->energy_balance();
-        step.total_energy          = scene.symmetry_factor * energy.total();
-        AssertThrow(std::isfinite(*step.total_energy),
-                    ExcMessage(unstable_message()));
+        const std::string failure = monitor->check_total_energy(energy.total());
+        if (!failure.empty())
+          return failure;
+        step.total_energy = scene.symmetry_factor * energy.total();
         history->write(step.time,
                        step.contact_force,
                        step.max_pressure,
                        energy);
       }
-    summary.add_step(step);
+    summary->add_step(step);
 
     if (write_solution)
       {
@@ -226,20 +271,23 @@ namespace isoimpact
                              result.points,
                              scene.impact_direction,
                              scene.reference.get());
+    return "";
   }
 
 
 
   std::string
-  ImpactProgram::unstable_message() const
+  ImpactProgram::unstable_message(const std::string &reason) const
   {
-    return "the solution became non-finite at step " +
-           std::to_string(integrator->step_number()) +
-           " (t = " + std::to_string(integrator->time()) +
-           " s): the time step " + std::to_string(parameters.time_step) +
-           " s is probably above the critical step (estimated " +
-           std::to_string(critical_time_step) +
-           " s without contact; penalty contact lowers it further)";
+    std::ostringstream message;
+    message << "the run became unstable at step " << integrator->step_number()
+            << " (t = " << integrator->time() << " s): " << reason
+            << ". Time step " << time_step << " s against the stable step "
+            << "bound " << stable.bound() << " s (estimate "
+            << stable.power_estimate
+            << " s), both with the contact penalty; the output holds the "
+               "steps before the instability";
+    return message.str();
   }
 
 
@@ -252,9 +300,9 @@ namespace isoimpact
     pcout << "  step " << std::setw(6) << integrator->step_number() << "/"
           << n_steps << "  t = " << std::fixed << std::setprecision(4)
           << integrator->time() << " s  contact force = " << std::setw(9)
-          << std::setprecision(2) << summary.current_force()
+          << std::setprecision(2) << summary->current_force()
           << " N/m  energy error = " << std::setprecision(3)
-          << 100. * summary.current_energy_error() << " %  elapsed "
+          << 100. * summary->current_energy_error() << " %  elapsed "
           << std::setprecision(1) << elapsed << " s, left ~"
           << elapsed * (1. - done) / std::max(done, 1e-12) << " s"
           << std::defaultfloat << std::setprecision(6) << std::endl;
@@ -264,23 +312,28 @@ namespace isoimpact
 
   // @sect3{The time loop}
   //
-  // After set-up, the loop is short: advance one step, and at output steps
-  // record the history, the ParaView files and the pressure profiles.
-  void
+  // The time step is chosen once the scene is built, because its bound
+  // depends on the matrices and the contact surfaces: Time step = auto takes
+  // the safety factor times the bound, and a given step above the bound is
+  // refused here, before any output. After set-up, the loop is short:
+  // advance one step, let the stability monitor check it, and at output
+  // steps record the history, the ParaView files and the pressure profiles.
+  int
   ImpactProgram::run()
   {
     {
       TimerOutput::Scope scope(timer, "set-up: meshes, matrices, contact");
-      scene              = build_scene(parameters);
-      critical_time_step = std::numeric_limits<double>::max();
-      for (const auto &body : scene.bodies)
-        critical_time_step =
-          std::min(critical_time_step, body->estimate_critical_time_step());
-      n_steps = static_cast<unsigned int>(
-        std::ceil(parameters.end_time / parameters.time_step - 1e-9));
+      scene = build_scene(parameters);
+      stable =
+        scene_stable_time_step(scene.body_pointers(), scene.interactions);
+      time_step = select_time_step(parameters, stable, parameter_file);
+      n_steps   = static_cast<unsigned int>(
+        std::ceil(parameters.end_time / time_step - 1e-9));
+      summary =
+        std::make_unique<RunSummary>(time_step, parameters.filter_window);
       integrator = std::make_unique<CentralDifference<2>>(scene.body_pointers(),
                                                           scene.interactions,
-                                                          parameters.time_step);
+                                                          time_step);
     }
     print_setup();
     open_output();
@@ -298,24 +351,33 @@ namespace isoimpact
     };
 
     integrator->initialize(true);
-    record(is_vtu_step(0), false);
+    StabilityLimits limits;
+    limits.input_energy            = integrator->energy_balance().total();
+    limits.energy_growth_tolerance = parameters.energy_growth_tolerance;
+    limits.maximum_penetration =
+      parameters.maximum_penetration * parameters.smallest_body_size();
+    monitor = std::make_unique<StabilityMonitor<2>>(*integrator, limits);
+    std::string failure = record(is_vtu_step(0), false);
     const unsigned int progress_every =
       std::max(1u,
                static_cast<unsigned int>(n_steps *
                                          parameters.progress_interval / 100.));
-    for (unsigned int step = 1; step <= n_steps; ++step)
+    for (unsigned int step = 1; step <= n_steps && failure.empty(); ++step)
       {
-        const double next_time = step * parameters.time_step;
+        const double next_time = step * time_step;
         const bool   profile =
           next_profile < parameters.profile_times.size() &&
           next_time >= parameters.profile_times[next_profile] - 1e-12;
         {
           TimerOutput::Scope scope(timer, "time steps");
           integrator->advance(profile);
+          failure = monitor->check();
         }
+        if (!failure.empty())
+          break;
         {
           TimerOutput::Scope scope(timer, "output: history and profiles");
-          record(is_vtu_step(step), profile_due());
+          failure = record(is_vtu_step(step), profile_due());
           while (profile_due())
             ++next_profile;
         }
@@ -328,27 +390,43 @@ namespace isoimpact
     // duration, their errors against the analytic reference, cost and the
     // energy error. Penalty contact chatters, so it also gives the peaks of
     // the force and pressure filtered with a centred moving average over
-    // Output/Filter window. It is written last, so a run that fails leaves
-    // no summary.
-    summary.write_json(parameters.output_directory + "/summary.json",
-                       parameters,
-                       parameter_file,
-                       scene,
-                       critical_time_step,
-                       integrator->step_number(),
-                       wall_clock.wall_time());
+    // Output/Filter window. It is written last; a run stopped by the
+    // stability monitor gets one too, with "status": "unstable", the reason,
+    // and the figures of the steps before the instability.
+    RunFacts facts;
+    facts.time_step = time_step;
+    facts.stable    = stable;
+    facts.n_steps   = integrator->step_number();
+    facts.wall_time = wall_clock.wall_time();
+    if (!failure.empty())
+      {
+        facts.status      = "unstable";
+        facts.stop_reason = unstable_message(failure);
+      }
+    summary->write_json(parameters.output_directory + "/summary.json",
+                        parameters,
+                        parameter_file,
+                        scene,
+                        facts);
+    if (!failure.empty())
+      {
+        std::cerr << "isoimpact: error in " << parameter_file << ": "
+                  << facts.stop_reason << std::endl;
+        return 1;
+      }
 
-    pcout << "  peak contact force " << summary.peak_force()
-          << " N/m at t = " << summary.time_of_peak_force() << " s";
+    pcout << "  peak contact force " << summary->peak_force()
+          << " N/m at t = " << summary->time_of_peak_force() << " s";
     if (scene.reference)
       pcout << " (analytic " << scene.reference->peak_force() << " N/m at "
             << scene.reference->time_of_peak() << " s)";
-    pcout << "\n  max energy error " << 100. * summary.max_energy_error()
+    pcout << "\n  max energy error " << 100. * summary->max_energy_error()
           << " %\n"
           << "  results: " << parameters.output_directory
           << "/{history.csv,summary.json,solution.pvd,contact_pressure_*.csv}"
           << std::endl;
     timer.print_summary();
+    return 0;
   }
 } // namespace isoimpact
 
@@ -394,7 +472,7 @@ main(int argc, char **argv)
     {
       const Parameters parameters = read_parameters(argument);
       ImpactProgram    program(parameters, argument);
-      program.run();
+      return program.run();
     }
   catch (const InputError &e)
     {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 using namespace dealii;
@@ -121,6 +122,26 @@ namespace isoimpact
             body.geometry.shape == BodyGeometry::Shape::half_disk))
         return 1.;
     return 2.;
+  }
+
+  double
+  Parameters::smallest_body_size() const
+  {
+    double size = std::numeric_limits<double>::max();
+    for (unsigned int b = 0; b < n_bodies(); ++b)
+      {
+        const BodyGeometry &geometry = bodies[b].geometry;
+        if (geometry.shape == BodyGeometry::Shape::rectangle)
+          {
+            const auto diagonal = geometry.upper_right - geometry.lower_left;
+            size = std::min(size,
+                            0.5 * std::min(std::abs(diagonal[0]),
+                                           std::abs(diagonal[1])));
+          }
+        else
+          size = std::min(size, geometry.radius);
+      }
+    return size;
   }
 
   void

@@ -64,6 +64,7 @@ namespace isoimpact
     times.push_back(record.time);
     forces.push_back(record.contact_force);
     pressures.push_back(record.max_pressure);
+    deepest_penetration = std::max(deepest_penetration, record.penetration);
     if (record.in_contact)
       {
         if (first_contact < 0.)
@@ -79,6 +80,14 @@ namespace isoimpact
         largest_energy_error =
           std::max(largest_energy_error, last_energy_error);
       }
+  }
+
+
+
+  double
+  RunSummary::max_penetration() const
+  {
+    return deepest_penetration;
   }
 
 
@@ -211,9 +220,7 @@ namespace isoimpact
                          const Parameters  &parameters,
                          const std::string &parameter_file,
                          const Scene       &scene,
-                         const double       critical_time_step,
-                         const unsigned int n_steps,
-                         const double       wall_time) const
+                         const RunFacts    &facts) const
   {
     nlohmann::ordered_json summary;
     summary["parameter_file"] = parameter_file;
@@ -225,10 +232,18 @@ namespace isoimpact
       summary["cells"].push_back(
         body->discretization().triangulation().n_active_cells());
     summary["vtu_subdivisions"]              = parameters.vtu_subdivisions;
-    summary["time_step_s"]                   = parameters.time_step;
-    summary["critical_time_step_estimate_s"] = critical_time_step;
-    summary["steps"]                         = n_steps;
-    summary["wall_time_s"]                   = wall_time;
+    summary["status"]                        = facts.status;
+    if (!facts.stop_reason.empty())
+      summary["stop_reason"] = facts.stop_reason;
+    summary["time_step_s"]              = facts.time_step;
+    summary["time_step_automatic"]      = parameters.automatic_time_step;
+    summary["stable_time_step_bound_s"] = facts.stable.bound();
+    summary["stable_time_step_element_bound_s"] = facts.stable.element_bound;
+    summary["stable_time_step_gershgorin_bound_s"] =
+      facts.stable.gershgorin_bound;
+    summary["stable_time_step_estimate_s"] = facts.stable.power_estimate;
+    summary["steps"]                       = facts.n_steps;
+    summary["wall_time_s"]                 = facts.wall_time;
     summary["symmetry_factor"]               = scene.symmetry_factor;
     summary["obstacle"]                      = parameters.obstacle.type;
 
@@ -242,6 +257,7 @@ namespace isoimpact
     summary["time_of_filtered_peak_force_s"] = time_of_filtered_peak_force();
     summary["filtered_peak_contact_pressure_Pa"] = filtered_peak_pressure();
     summary["max_energy_error"]                  = max_energy_error();
+    summary["max_penetration_m"]                 = max_penetration();
     summary["final_displacement_probe"] = nlohmann::ordered_json::array();
     for (const auto &body : scene.bodies)
       summary["final_displacement_probe"].push_back(displacement_probe(*body));

@@ -105,6 +105,11 @@ namespace isoimpact
     double
     symmetry_factor() const;
 
+    // The smallest size of the deformable bodies, m: a radius, or half the
+    // shorter side of a rectangle (scale of Maximum penetration).
+    double
+    smallest_body_size() const;
+
     static void
     declare(dealii::ParameterHandler &prm);
     void

@@ -49,6 +49,7 @@ namespace isoimpact
     double                contact_force = 0.; // N/m
     double                max_pressure  = 0.; // Pa
     bool                  in_contact    = false;
+    double                penetration   = 0.; // m, deepest
     std::optional<double> total_energy; // J/m
   };
 
@@ -63,6 +64,21 @@ namespace isoimpact
    * summary also gives peaks of the signals filtered with moving_average()
    * over a fixed physical window.
    */
+  /**
+   * How a run went: its time step against the stable step of the scene, its
+   * cost, and whether it completed or was stopped by the stability monitor
+   * (status "unstable", with the monitor's reason).
+   */
+  struct RunFacts
+  {
+    double         time_step = 0.; // s
+    StableTimeStep stable;
+    unsigned int   n_steps   = 0;
+    double         wall_time = 0.; // s
+    std::string    status    = "completed";
+    std::string    stop_reason;
+  };
+
   class RunSummary
   {
   public:
@@ -95,6 +111,9 @@ namespace isoimpact
     time_of_filtered_peak_force() const;
     double
     filtered_peak_pressure() const;
+    // Deepest contact penetration of the run, m.
+    double
+    max_penetration() const;
 
     /**
      * Writes summary.json for a run of the scene with the parameters:
@@ -108,9 +127,7 @@ namespace isoimpact
                const Parameters  &parameters,
                const std::string &parameter_file,
                const Scene       &scene,
-               const double       critical_time_step,
-               const unsigned int n_steps,
-               const double       wall_time) const;
+               const RunFacts    &facts) const;
 
   private:
     double              time_step;
@@ -122,6 +139,7 @@ namespace isoimpact
     bool                has_initial_energy   = false;
     double              last_energy_error    = 0.;
     double              largest_energy_error = 0.;
+    double              deepest_penetration  = 0.;
   };
 } // namespace isoimpact
 
