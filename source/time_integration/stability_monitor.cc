@@ -72,7 +72,8 @@ namespace isoimpact
     if (std::isfinite(total_energy) && total_energy <= limit)
       return "";
     std::ostringstream message;
-    message << "the energy grew to " << total_energy << " J/m, above " << limit
+    message << "the energy of the modelled bodies grew to " << total_energy
+            << " J/m, above " << limit
             << " J/m = (1 + " << limits.energy_growth_tolerance
             << ") times the input energy " << limits.input_energy
             << " J/m (Time integration/Energy growth tolerance)";
