@@ -37,6 +37,17 @@ add_test(NAME bad_input
     $<TARGET_FILE:isoimpact_program>
     ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm ${_work}/bad_input)
 
+# The stable step and the stability monitor at the extremes (issue 9; the
+# full tables are in doc/stability.md).
+foreach(_group refusal bound penalty material channel)
+  add_test(NAME stability_extremes_${_group}
+    COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/stability_extremes.py
+      $<TARGET_FILE:isoimpact_program>
+      ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm
+      ${_work}/stability_${_group} ${_group})
+  set_tests_properties(stability_extremes_${_group} PROPERTIES TIMEOUT 900)
+endforeach()
+
 # The oscillation measure of the study (doc/oscillation.md) on synthetic
 # signals with known answers.
 add_test(NAME oscillation_measure

@@ -274,7 +274,7 @@ namespace isoimpact
     prm.enter_subsection("Time integration");
     prm.declare_entry(
       "Time step",
-      "5e-4",
+      "auto",
       PositiveNumberOrAuto(),
       "Central difference step, s (> 0), or auto: the safety factor times "
       "the guaranteed stable step bound, which includes the contact "

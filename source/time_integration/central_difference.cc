@@ -121,7 +121,8 @@ namespace isoimpact
   {
     double energy = 0.;
     for (const auto *body : bodies)
-      energy += body->kinetic_energy(body->velocity);
+      energy += body->kinetic_energy(body->velocity) -
+                0.25 * dt * dt * body->kinetic_energy(body->acceleration);
     return energy;
   }
 
@@ -130,11 +131,9 @@ namespace isoimpact
   CentralDifference<dim>::energy_balance() const
   {
     EnergyBalance energy;
+    energy.kinetic = kinetic_energy();
     for (const auto *body : bodies)
-      {
-        energy.kinetic += body->kinetic_energy(body->velocity);
-        energy.strain += body->strain_energy(body->displacement);
-      }
+      energy.strain += body->strain_energy(body->displacement);
     for (const auto &result : results)
       energy.contact += result.energy;
     return energy;

@@ -16,7 +16,9 @@ namespace isoimpact
     std::vector<std::vector<SurfaceSpring<dim>>> springs(bodies.size());
     for (const auto &interaction : contacts)
       {
-        const auto model_springs = interaction.contact->surface_springs();
+        auto model_springs = interaction.contact->surface_springs();
+        for (auto &spring : model_springs)
+          spring.stiffness *= contact_activation_margin;
         springs[interaction.first_body].push_back(model_springs[0]);
         if (model_springs.size() > 1)
           springs[interaction.second_body].push_back(model_springs[1]);

@@ -82,7 +82,7 @@ namespace isoimpact
     // the input energy by energy_growth_tolerance (a fraction of it) or a
     // penetration exceeds maximum_penetration (a fraction of the smallest
     // body size).
-    bool   automatic_time_step         = false;
+    bool   automatic_time_step         = true;
     double time_step                   = 5e-4;
     double time_step_safety_factor     = 0.9;
     bool   allow_time_step_above_bound = false;

@@ -67,9 +67,18 @@ namespace isoimpact
     double
     time_step() const;
 
+    /**
+     * The energies at the current step. The kinetic energy is the one that
+     * central differences conserve exactly for a linear system,
+     * 1/2 v^{n-1/2} . M v^{n+1/2} = 1/2 v^n . M v^n - dt^2/8 a^n . M a^n:
+     * with v^n alone the balance of a stable run would seem to grow by up to
+     * (omega dt / 2)^2 of the energy in the highest modes, which the contact
+     * chatter fills impact after impact (doc/stability.md).
+     */
     EnergyBalance
     energy_balance() const;
-    // Kinetic energy of the bodies alone (no product with the stiffness).
+    // The kinetic energy of energy_balance() alone (no product with the
+    // stiffness), for the stability monitor.
     double
     kinetic_energy() const;
 
