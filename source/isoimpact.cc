@@ -166,6 +166,22 @@ namespace isoimpact
       pcout << "  warning: the time step exceeds the stable step bound "
                "(allowed by 'Allow time step above the stable estimate'); "
                "the stability monitor stops the run if it blows up\n";
+    // A contact zone resolved by one or two faces gives peaks several
+    // times too high: say so before the run.
+    if (const double faces = faces_across_contact_zone(scene, parameters);
+        faces > 0.)
+      {
+        pcout << "  contact zone: the analytic contact width at the peak "
+                 "spans "
+              << faces << " faces of body 1's surface";
+        if (faces < recommended_faces_across_contact_zone)
+          pcout << "\n  warning: fewer than "
+                << recommended_faces_across_contact_zone
+                << " faces across the contact zone: expect peak force and "
+                   "pressure errors of several percent or more; refine "
+                   "(Discretization/Global or Local refinements)";
+        pcout << '\n';
+      }
     pcout << "  " << n_steps << " steps to t = " << parameters.end_time
           << " s; output in " << parameters.output_directory << std::endl;
   }
@@ -357,7 +373,7 @@ namespace isoimpact
     limits.maximum_penetration =
       parameters.maximum_penetration * parameters.smallest_body_size();
     monitor = std::make_unique<StabilityMonitor<2>>(*integrator, limits);
-    std::string failure = record(is_vtu_step(0), false);
+    std::string        failure = record(is_vtu_step(0), false);
     const unsigned int progress_every =
       std::max(1u,
                static_cast<unsigned int>(n_steps *

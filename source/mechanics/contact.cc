@@ -90,7 +90,7 @@ namespace isoimpact
   {
     energy += point_energy;
     force_on_body_0 += point_force_on_body_0;
-    max_pressure = std::max(max_pressure, point.pressure);
+    max_pressure    = std::max(max_pressure, point.pressure);
     max_penetration = std::max(max_penetration, -point.gap);
     ++n_active_points;
     if (record_point)

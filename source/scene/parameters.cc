@@ -134,7 +134,7 @@ namespace isoimpact
         if (geometry.shape == BodyGeometry::Shape::rectangle)
           {
             const auto diagonal = geometry.upper_right - geometry.lower_left;
-            size = std::min(size,
+            size                = std::min(size,
                             0.5 * std::min(std::abs(diagonal[0]),
                                            std::abs(diagonal[1])));
           }

@@ -231,8 +231,8 @@ namespace isoimpact
     for (const auto &body : scene.bodies)
       summary["cells"].push_back(
         body->discretization().triangulation().n_active_cells());
-    summary["vtu_subdivisions"]              = parameters.vtu_subdivisions;
-    summary["status"]                        = facts.status;
+    summary["vtu_subdivisions"] = parameters.vtu_subdivisions;
+    summary["status"]           = facts.status;
     if (!facts.stop_reason.empty())
       summary["stop_reason"] = facts.stop_reason;
     summary["time_step_s"]              = facts.time_step;
@@ -244,8 +244,8 @@ namespace isoimpact
     summary["stable_time_step_estimate_s"] = facts.stable.power_estimate;
     summary["steps"]                       = facts.n_steps;
     summary["wall_time_s"]                 = facts.wall_time;
-    summary["symmetry_factor"]               = scene.symmetry_factor;
-    summary["obstacle"]                      = parameters.obstacle.type;
+    summary["symmetry_factor"]             = scene.symmetry_factor;
+    summary["obstacle"]                    = parameters.obstacle.type;
 
     const auto filtered_force             = filtered_peak_force().first;
     summary["peak_contact_force_N_per_m"] = peak_force();

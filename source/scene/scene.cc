@@ -2,6 +2,7 @@
 #include <isoimpact/scene/scene.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 using namespace dealii;
@@ -162,5 +163,37 @@ namespace isoimpact
         throw InputError(message.str());
       }
     return parameters.time_step;
+  }
+
+  double
+  faces_across_contact_zone(const Scene &scene, const Parameters &parameters)
+  {
+    if (!scene.reference)
+      return 0.;
+    const BodyGeometry &geometry = parameters.bodies[0].geometry;
+    // Body 1 moves along the impact direction into its partner.
+    const Point<2> first_contact =
+      geometry.center + geometry.radius * scene.impact_direction;
+    const auto segments = scene.bodies[0]->discretization().boundary_segments(
+      BodyGeometry::curved_boundary_id);
+    std::vector<double> r, dr;
+    double              nearest = std::numeric_limits<double>::max();
+    double              length  = 0.;
+    for (const auto &segment : segments)
+      {
+        std::array<Point<2>, 2> ends;
+        for (unsigned int e = 0; e < 2; ++e)
+          {
+            evaluate_segment_basis(segment, double(e), r, dr);
+            for (unsigned int k = 0; k < r.size(); ++k)
+              ends[e] += r[k] * segment.node_positions[k];
+          }
+        const double distance = std::min(ends[0].distance(first_contact),
+                                         ends[1].distance(first_contact));
+        if (distance < nearest)
+          nearest = distance, length = ends[0].distance(ends[1]);
+      }
+    return length > 0. ? 2. * scene.reference->half_width_at_peak() / length :
+                         0.;
   }
 } // namespace isoimpact

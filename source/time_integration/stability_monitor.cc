@@ -75,9 +75,9 @@ namespace isoimpact
       return "";
     std::ostringstream message;
     message << "the energy of the modelled bodies grew to " << total_energy
-            << " J/m, above " << limit
-            << " J/m = (1 + " << limits.energy_growth_tolerance
-            << ") times the input energy " << limits.input_energy
+            << " J/m, above " << limit << " J/m = (1 + "
+            << limits.energy_growth_tolerance << ") times the input energy "
+            << limits.input_energy
             << " J/m (Time integration/Energy growth tolerance)";
     return message.str();
   }

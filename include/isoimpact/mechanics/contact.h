@@ -62,7 +62,7 @@ namespace isoimpact
     double                         energy = 0.; // J/m (per unit thickness)
     double                         max_pressure    = 0.; // Pa
     double                         max_penetration = 0.; // m, -min g_N
-    dealii::Tensor<1, dim>         force_on_body_0;   // N/m, resultant
+    dealii::Tensor<1, dim>         force_on_body_0;      // N/m, resultant
     unsigned int                   n_active_points = 0;
     std::vector<ContactPoint<dim>> points;
 

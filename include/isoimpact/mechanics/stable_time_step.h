@@ -5,9 +5,9 @@
 #ifndef isoimpact_stable_time_step_h
 #define isoimpact_stable_time_step_h
 
+#include <isoimpact/discretization/boundary_segments.h>
 #include <isoimpact/mechanics/contact.h>
 #include <isoimpact/mechanics/elastic_body.h>
-#include <isoimpact/discretization/boundary_segments.h>
 
 #include <limits>
 #include <vector>

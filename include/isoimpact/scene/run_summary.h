@@ -50,7 +50,7 @@ namespace isoimpact
     double                max_pressure  = 0.; // Pa
     bool                  in_contact    = false;
     double                penetration   = 0.; // m, deepest
-    std::optional<double> total_energy; // J/m
+    std::optional<double> total_energy;       // J/m
   };
 
   /**

@@ -45,6 +45,18 @@ namespace isoimpact
   build_scene(const Parameters &parameters);
 
   /**
+   * How many faces of body 1's contact surface span the contact width 2a of
+   * the analytic reference at its peak force: 2a over the length of the
+   * face nearest to the first point of contact. 0 without a reference.
+   */
+  double
+  faces_across_contact_zone(const Scene &scene, const Parameters &parameters);
+
+  // Below this many faces across the contact width the contact force peaks
+  // are several percent off (the refinement study: doc/stability.md).
+  constexpr double recommended_faces_across_contact_zone = 8.;
+
+  /**
    * The time step of the run: with Time step = auto the safety factor times
    * the guaranteed bound `stable`; a given step above the bound throws an
    * InputError naming both (unless the parameters allow it).
