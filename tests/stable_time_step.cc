@@ -65,12 +65,13 @@ namespace
       for (types::boundary_id b = 0; b < 4; ++b)
         for (unsigned int c = 0; c < 2; ++c)
           clamps.push_back({b, c});
-    const ElasticBody<2> body("square",
-                              create_discretization<2>(DiscretizationMethod::fea, geometry, 2),
-                              material(),
-                              scheme,
-                              clamps,
-                              Tensor<1, 2>());
+    const ElasticBody<2> body(
+      "square",
+      create_discretization<2>(DiscretizationMethod::fea, geometry, 2),
+      material(),
+      scheme,
+      clamps,
+      Tensor<1, 2>());
     const StableTimeStep step = compute_stable_time_step<2>(body, {}, 2000);
     const double         h    = 1. / 16.;
     const std::string    what = std::string(clamped ? "clamped" : "free") +
@@ -88,13 +89,14 @@ namespace
   {
     BodyGeometry geometry;
     geometry.global_refinements = 3;
-    const ElasticBody<2> body("half disk",
-                              create_discretization<2>(DiscretizationMethod::fea, geometry, 2),
-                              material(),
-                              MassScheme::hrz,
-                              {{BodyGeometry::symmetry_boundary_id, 0}},
-                              Tensor<1, 2>());
-    const auto           segments =
+    const ElasticBody<2> body(
+      "half disk",
+      create_discretization<2>(DiscretizationMethod::fea, geometry, 2),
+      material(),
+      MassScheme::hrz,
+      {{BodyGeometry::symmetry_boundary_id, 0}},
+      Tensor<1, 2>());
+    const auto segments =
       body.discretization().boundary_segments(BodyGeometry::curved_boundary_id);
     const StableTimeStep free = compute_stable_time_step<2>(body, {});
     const StableTimeStep with_springs =
