@@ -180,11 +180,19 @@ namespace isoimpact
   double
   ElasticBody<dim>::kinetic_energy(const Vector<double> &v) const
   {
-    Vector<double> mv(v.size());
-    mass_vmult(mv, v);
-    scratch = v;
-    body_constraints.set_zero(scratch);
-    return 0.5 * (mv * scratch);
+    return kinetic_energy(v, v);
+  }
+
+  template <int dim>
+  double
+  ElasticBody<dim>::kinetic_energy(const Vector<double> &x,
+                                   const Vector<double> &y) const
+  {
+    // mass_vmult zeroes the constrained entries of y; the rows of M for
+    // them are then zero, so those of x do not count either.
+    mass_times_scratch.reinit(y.size(), true);
+    mass_vmult(mass_times_scratch, y);
+    return 0.5 * (x * mass_times_scratch);
   }
 
   template <int dim>

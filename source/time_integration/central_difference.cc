@@ -120,9 +120,14 @@ namespace isoimpact
   CentralDifference<dim>::kinetic_energy() const
   {
     double energy = 0.;
-    for (const auto *body : bodies)
-      energy += body->kinetic_energy(body->velocity) -
-                0.25 * dt * dt * body->kinetic_energy(body->acceleration);
+    // 1/2 v^{n-1/2} . M v^{n+1/2}, v^{n-1/2} = v^{n+1/2} - dt a^n.
+    for (unsigned int b = 0; b < bodies.size(); ++b)
+      {
+        previous_half_step_velocity = half_step_velocity[b];
+        previous_half_step_velocity.add(-dt, bodies[b]->acceleration);
+        energy += bodies[b]->kinetic_energy(previous_half_step_velocity,
+                                            half_step_velocity[b]);
+      }
     return energy;
   }
 

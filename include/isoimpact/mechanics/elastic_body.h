@@ -59,6 +59,10 @@ namespace isoimpact
     // modelled body, with the mass matrix in use.
     double
     kinetic_energy(const dealii::Vector<double> &v) const;
+    // 1/2 x . M y, constrained entries of y set to zero.
+    double
+    kinetic_energy(const dealii::Vector<double> &x,
+                   const dealii::Vector<double> &y) const;
     double
     strain_energy(const dealii::Vector<double> &u) const;
     dealii::Tensor<1, dim>
@@ -110,7 +114,7 @@ namespace isoimpact
     dealii::Vector<double>               inverse_lumped_mass;
     dealii::PreconditionJacobi<dealii::SparseMatrix<double>>
                                    mass_preconditioner;
-    mutable dealii::Vector<double> scratch;
+    mutable dealii::Vector<double> scratch, mass_times_scratch;
   };
 } // namespace isoimpact
 

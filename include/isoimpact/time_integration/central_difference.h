@@ -96,6 +96,7 @@ namespace isoimpact
     double                               current_time = 0.;
     unsigned int                         step         = 0;
     std::vector<dealii::Vector<double>>  half_step_velocity;
+    mutable dealii::Vector<double>       previous_half_step_velocity;
     std::vector<dealii::Vector<double>>  forces;
     // Per contact interaction, built once: its bodies' displacements and
     // force vectors, in the order the contact model expects.
