@@ -139,6 +139,19 @@ def cases(quick):
         table.append(("IGA degree, HRZ, level 3, auto", f"p = {degree}",
                       {"Discretization/Method": "iga",
                        "Discretization/Degree": degree}, False))
+    # The contact activation margin: the energy pump of penalty contact
+    # against the safety factor, with the linearised springs (margin 1) and
+    # the program's default margin 2.
+    for level in ["3"] if quick else ["3", "4"]:
+        for margin in ["1", "2"]:
+            for factor in ["0.7", "1"] if quick else ["0.5", "0.7", "0.8", "0.85", "0.9", "1"]:
+                table.append((f"contact activation margin {margin}, FEA Q9 HRZ, "
+                              f"level {level}, auto", f"safety factor {factor}",
+                              {"Discretization/Global refinements": level,
+                               "Time integration/Contact activation margin": margin,
+                               "Time integration/Time step safety factor": factor,
+                               "Time integration/Energy growth tolerance": "1"},
+                              False))
     channel = {"Obstacle/Type": "channel", "Obstacle/Point": "0, 0",
                "Obstacle/Normal": "0, 1", "Obstacle/Opposite point": "0, 10",
                "Body 1/Shape": "full disk", "Body 1/Center": "0, 5",

@@ -339,9 +339,10 @@ namespace isoimpact
   {
     {
       TimerOutput::Scope scope(timer, "set-up: meshes, matrices, contact");
-      scene = build_scene(parameters);
-      stable =
-        scene_stable_time_step(scene.body_pointers(), scene.interactions);
+      scene     = build_scene(parameters);
+      stable    = scene_stable_time_step(scene.body_pointers(),
+                                      scene.interactions,
+                                      parameters.contact_activation_margin);
       time_step = select_time_step(parameters, stable, parameter_file);
       n_steps   = static_cast<unsigned int>(
         std::ceil(parameters.end_time / time_step - 1e-9));

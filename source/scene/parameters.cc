@@ -284,6 +284,14 @@ namespace isoimpact
                       Patterns::Double(0., 1.),
                       "Fraction of the stable step bound taken with "
                       "Time step = auto, in (0, 1].");
+    prm.declare_entry("Contact activation margin",
+                      "2",
+                      Patterns::Double(1.),
+                      "The stable step bound counts the contact penalty "
+                      "springs this many times (>= 1): penalty contact that "
+                      "opens and closes inside a step pumps energy at steps "
+                      "the linearised bound (margin 1) calls stable "
+                      "(doc/stability.md).");
     prm.declare_entry("Allow time step above the stable estimate",
                       "false",
                       Patterns::Bool(),
@@ -430,8 +438,9 @@ namespace isoimpact
     prm.enter_subsection("Time integration");
     const std::string step_text = prm.get("Time step");
     automatic_time_step         = (step_text == "auto");
-    time_step               = automatic_time_step ? 0. : std::stod(step_text);
-    time_step_safety_factor = prm.get_double("Time step safety factor");
+    time_step                 = automatic_time_step ? 0. : std::stod(step_text);
+    time_step_safety_factor   = prm.get_double("Time step safety factor");
+    contact_activation_margin = prm.get_double("Contact activation margin");
     allow_time_step_above_bound =
       prm.get_bool("Allow time step above the stable estimate");
     end_time                = prm.get_double("End time");

@@ -11,7 +11,8 @@ namespace isoimpact
   template <int dim>
   StableTimeStep
   scene_stable_time_step(const std::vector<ElasticBody<dim> *>      &bodies,
-                         const std::vector<ContactInteraction<dim>> &contacts)
+                         const std::vector<ContactInteraction<dim>> &contacts,
+                         const double contact_activation_margin)
   {
     std::vector<std::vector<SurfaceSpring<dim>>> springs(bodies.size());
     for (const auto &interaction : contacts)
@@ -84,6 +85,7 @@ namespace isoimpact
 
   template StableTimeStep
   scene_stable_time_step(const std::vector<ElasticBody<2> *> &,
-                         const std::vector<ContactInteraction<2>> &);
+                         const std::vector<ContactInteraction<2>> &,
+                         const double);
   template class StabilityMonitor<2>;
 } // namespace isoimpact

@@ -78,13 +78,15 @@ namespace isoimpact
     // Time integration. With automatic_time_step the step is the safety
     // factor times the guaranteed stable step bound with contact
     // (mechanics/stable_time_step.h); a given step above that bound is
-    // refused unless allowed. The run stops when the total energy exceeds
-    // the input energy by energy_growth_tolerance (a fraction of it) or a
-    // penetration exceeds maximum_penetration (a fraction of the smallest
-    // body size).
+    // refused unless allowed. The bound counts the contact springs
+    // contact_activation_margin times (time_integration/stability_monitor.h).
+    // The run stops when the total energy exceeds the input energy by
+    // energy_growth_tolerance (a fraction of it) or a penetration exceeds
+    // maximum_penetration (a fraction of the smallest body size).
     bool   automatic_time_step         = true;
     double time_step                   = 5e-4;
     double time_step_safety_factor     = 0.9;
+    double contact_activation_margin   = 2.;
     bool   allow_time_step_above_bound = false;
     double end_time                    = 0.9;
     double energy_growth_tolerance     = 0.1;

@@ -19,10 +19,10 @@ namespace isoimpact
    * energy into the bodies impact after impact, at steps the linearised
    * bound calls stable (measured: 5 % energy growth in one impact at 0.8 of
    * that bound, doc/stability.md). The bound therefore counts the contact
-   * springs this many times: the contact mode alone then needs
+   * springs this many times by default: the contact mode alone then needs
    * omega_c dt <= 2 / sqrt(2).
    */
-  constexpr double contact_activation_margin = 2.;
+  constexpr double default_contact_activation_margin = 2.;
 
   /**
    * The stable step of a scene: each body with the penalty springs of the
@@ -31,8 +31,10 @@ namespace isoimpact
    */
   template <int dim>
   StableTimeStep
-  scene_stable_time_step(const std::vector<ElasticBody<dim> *>      &bodies,
-                         const std::vector<ContactInteraction<dim>> &contacts);
+  scene_stable_time_step(
+    const std::vector<ElasticBody<dim> *>      &bodies,
+    const std::vector<ContactInteraction<dim>> &contacts,
+    const double contact_activation_margin = default_contact_activation_margin);
 
   struct StabilityLimits
   {
