@@ -114,7 +114,7 @@ namespace
           if (disk_discretization->dof_component(i) == 1)
             u_disk(i) = shift;
         const auto result =
-          contact.evaluate({&u_disk, &u_block}, {&f_disk, &f_block}, false);
+          contact.evaluate({&u_disk, &u_block}, {}, {&f_disk, &f_block}, false);
         const Tensor<1, 2> on_disk  = total(*disk_discretization, f_disk);
         const Tensor<1, 2> on_block = total(*block_discretization, f_block);
         if (shift < 0)

@@ -129,7 +129,7 @@ main()
     Vector<double> u(6), f(6);
     for (unsigned int k = 0; k < 3; ++k)
       u(2 * k + 1) = -0.06;
-    const ContactResult<2> result = contact.evaluate({&u}, {&f}, true);
+    const ContactResult<2> result = contact.evaluate({&u}, {}, {&f}, true);
     check_close("resultant y", result.force_on_body_0[1], eps * g0 * L, 1e-12);
     check_close("resultant x",
                 result.force_on_body_0[0],
@@ -159,7 +159,7 @@ main()
                  std::abs(point.pressure - eps * g0) < 1e-9);
 
     Vector<double>         zero(6), f0(6);
-    const ContactResult<2> free = contact.evaluate({&zero}, {&f0}, false);
+    const ContactResult<2> free = contact.evaluate({&zero}, {}, {&f0}, false);
     CHECK_TRUE(free.n_active_points == 0 && f0.l2_norm() == 0. &&
                free.energy == 0.);
   }
@@ -173,7 +173,7 @@ main()
                          Point<2>(0., -0.02),
                          Point<2>(0., -0.01))});
     Vector<double>         u(6), f(6);
-    const ContactResult<2> result = contact.evaluate({&u}, {&f}, false);
+    const ContactResult<2> result = contact.evaluate({&u}, {}, {&f}, false);
     check_close("resultant y", result.force_on_body_0[1], eps * 4e-4, 1e-12);
     check_close("energy",
                 result.energy,
@@ -198,7 +198,7 @@ main()
                          Point<2>(0.1, -0.01),
                          Point<2>(1., -0.01))});
     Vector<double>         u(6), f(6);
-    const ContactResult<2> result = contact.evaluate({&u}, {&f}, false);
+    const ContactResult<2> result = contact.evaluate({&u}, {}, {&f}, false);
     CHECK_TRUE(result.n_active_points > 0);
     const double h         = 1e-6;
     double       max_error = 0.;
@@ -207,9 +207,10 @@ main()
         Vector<double> up(u), um(u), scratch(6);
         up(i) += h;
         um(i) -= h;
-        const double dE = (contact.evaluate({&up}, {&scratch}, false).energy -
-                           contact.evaluate({&um}, {&scratch}, false).energy) /
-                          (2. * h);
+        const double dE =
+          (contact.evaluate({&up}, {}, {&scratch}, false).energy -
+           contact.evaluate({&um}, {}, {&scratch}, false).energy) /
+          (2. * h);
         max_error = std::max(max_error, std::abs(f(i) + dE));
       }
     check_close("max |f + dE/du| / max |f|",

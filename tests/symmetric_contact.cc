@@ -168,7 +168,7 @@ namespace
           d2.boundary_segments(BodyGeometry::curved_boundary_id));
         Vector<double>         f1(d1.n_dofs()), f2(d2.n_dofs());
         const ContactResult<2> result =
-          contact.evaluate({&u1, &u2}, {&f1, &f2}, true);
+          contact.evaluate({&u1, &u2}, {}, {&f1, &f2}, true);
         results[convention == PenaltyPerPass::half ? 0 : 1] = result;
         const Tensor<1, 2> F1 = sum(d1, f1), F2 = sum(d2, f2);
         std::cout << "    " << name(convention) << ": resultant on body 1 "
@@ -280,7 +280,7 @@ namespace
                                         d2.boundary_segments(bottom));
         Vector<double>          f1(d1.n_dofs()), f2(d2.n_dofs());
         const ContactResult<2>  result =
-          contact.evaluate({&u1, &u2}, {&f1, &f2}, true);
+          contact.evaluate({&u1, &u2}, {}, {&f1, &f2}, true);
         results[convention == PenaltyPerPass::half ? 0 : 1] = result;
         const Tensor<1, 2> F1 = sum(d1, f1), F2 = sum(d2, f2);
         std::cout << "    " << name(convention) << ": resultant on the lower "
@@ -382,7 +382,7 @@ namespace
         Vector<double>       f1(d1.n_dofs()), f2(d2.n_dofs());
         const Vector<double> zero_1(d1.n_dofs()), zero_2(d2.n_dofs());
         ContactResult<2>     result =
-          contact.evaluate({&zero_1, &zero_2}, {&f1, &f2}, false);
+          contact.evaluate({&zero_1, &zero_2}, {}, {&f1, &f2}, false);
         std::cout << "    " << name(convention)
                   << ": u = 0: " << result.n_active_points << " active points"
                   << std::endl;
@@ -395,7 +395,7 @@ namespace
         f2            = 0.;
         const auto u1 = uniform_field(d1, Tensor<1, 2>({0., -1e-3}));
         const auto u2 = uniform_field(d2, Tensor<1, 2>({0., 1e-3}));
-        result        = contact.evaluate({&u1, &u2}, {&f1, &f2}, false);
+        result        = contact.evaluate({&u1, &u2}, {}, {&f1, &f2}, false);
         std::cout << "    approach 2e-3: " << result.n_active_points
                   << " active points, resultant " << result.force_on_body_0
                   << std::endl;

@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 
 using namespace dealii;
@@ -78,6 +79,59 @@ namespace isoimpact
     for (unsigned int k = 0; k < shape_values.size(); ++k)
       for (unsigned int d = 0; d < dim; ++d)
         f(segment.node_dofs[k][d]) += shape_values[k] * force[d];
+  }
+
+  template <int dim>
+  Tensor<1, dim>
+  point_velocity(const BoundarySegment<dim> &segment,
+                 const std::vector<double>  &shape_values,
+                 const Vector<double>       &v)
+  {
+    Tensor<1, dim> velocity;
+    for (unsigned int k = 0; k < shape_values.size(); ++k)
+      for (unsigned int d = 0; d < dim; ++d)
+        velocity[d] += shape_values[k] * v(segment.node_dofs[k][d]);
+    return velocity;
+  }
+
+  template <int dim>
+  SurfaceMassDensity<dim>::SurfaceMassDensity(
+    const std::vector<BoundarySegment<dim>> &segments,
+    const Vector<double>                    &nodal_masses)
+    : node_densities(segments.size())
+  {
+    // int N_k ds per unknown, exact for the segments' polynomial degree.
+    std::map<types::global_dof_index, double> areas;
+    for (const auto &point : surface_quadrature(segments, 6))
+      for (unsigned int k = 0; k < point.shape_values.size(); ++k)
+        areas[segments[point.segment].node_dofs[k][0]] +=
+          point.shape_values[k] * point.weight;
+    for (unsigned int s = 0; s < segments.size(); ++s)
+      for (const auto &dofs : segments[s].node_dofs)
+        {
+          const double area = areas[dofs[0]];
+          node_densities[s].push_back(area > 0. ? nodal_masses(dofs[0]) / area :
+                                                  0.);
+        }
+  }
+
+  template <int dim>
+  bool
+  SurfaceMassDensity<dim>::empty() const
+  {
+    return node_densities.empty();
+  }
+
+  template <int dim>
+  double
+  SurfaceMassDensity<dim>::operator()(
+    const unsigned int         segment,
+    const std::vector<double> &shape_values) const
+  {
+    double mu = 0.;
+    for (unsigned int k = 0; k < shape_values.size(); ++k)
+      mu += shape_values[k] * node_densities[segment][k];
+    return mu;
   }
 
   template <int dim>
@@ -352,26 +406,24 @@ namespace isoimpact
       return closest;
     }
 
-    // Traction assembly for a penetrating Gauss point: the penalty traction
-    // penalty |g| n times the point's weight acts on the point's own body,
-    // the opposite on the other body at the projection, each distributed
-    // with the nodal functions there. Returns the force on the own body.
+    // Traction assembly for a penetrating Gauss point: the traction
+    // pressure n times the point's weight acts on the point's own body, the
+    // opposite on the other body at the projection (where the nodal
+    // functions r were evaluated), each distributed with the nodal
+    // functions there. Returns the force on the own body.
     template <int dim>
     Tensor<1, dim>
-    add_penalty_traction(const BoundarySegment<dim>        &segment,
+    add_contact_traction(const BoundarySegment<dim>        &segment,
                          const SurfaceQuadraturePoint<dim> &point,
                          const BoundarySegment<dim>        &other_segment,
-                         const Projection<dim>             &projection,
-                         const double                       penalty,
+                         const std::vector<double>         &r,
+                         const Tensor<1, dim>              &normal,
+                         const double                       pressure,
                          Vector<double>                    &f,
-                         Vector<double>                    &f_other,
-                         std::vector<double>               &r,
-                         std::vector<double>               &dr)
+                         Vector<double>                    &f_other)
     {
-      const double         pressure = -penalty * projection.gap;
-      const Tensor<1, dim> force = pressure * point.weight * projection.normal;
+      const Tensor<1, dim> force = pressure * point.weight * normal;
       distribute_point_force(segment, point.shape_values, force, f);
-      evaluate_segment_basis(other_segment, projection.eta, r, dr);
       distribute_point_force(other_segment, r, -force, f_other);
       return force;
     }
@@ -433,6 +485,8 @@ namespace isoimpact
       << settings.n_quadrature_points
       << " Gauss points per face, penalty per pass " << penalty_per_pass()
       << " Pa/m";
+    if (settings.damping_ratio > 0.)
+      s << ", contact damping " << settings.damping_ratio << " of critical";
     return s.str();
   }
 
@@ -444,14 +498,39 @@ namespace isoimpact
   }
 
   template <int dim>
+  void
+  PenaltyContact<dim>::set_surface_masses(
+    const std::vector<const Vector<double> *> &nodal_masses)
+  {
+    AssertDimension(nodal_masses.size(), 2);
+    for (unsigned int b = 0; b < 2; ++b)
+      surfaces[b].mass_density =
+        SurfaceMassDensity<dim>(surfaces[b].segments, *nodal_masses[b]);
+  }
+
+  template <int dim>
+  double
+  PenaltyContact<dim>::damping_ratio() const
+  {
+    return settings.damping_ratio;
+  }
+
+  template <int dim>
   ContactResult<dim>
   PenaltyContact<dim>::evaluate(
     const std::vector<const Vector<double> *> &displacements,
+    const std::vector<const Vector<double> *> &velocities,
     const std::vector<Vector<double> *>       &forces,
     const bool                                 record_points) const
   {
     AssertDimension(displacements.size(), 2);
     AssertDimension(forces.size(), 2);
+    const bool damped = settings.damping_ratio > 0.;
+    AssertThrow(!damped || (velocities.size() == 2 &&
+                            !surfaces[0].mass_density.empty() &&
+                            !surfaces[1].mass_density.empty()),
+                ExcMessage("contact damping needs the velocities and the "
+                           "surface masses of both bodies"));
     const std::array<CurrentSurface<dim>, 2> current = {
       {CurrentSurface<dim>(surfaces[0].segments,
                            surfaces[0].reference_lengths,
@@ -460,10 +539,9 @@ namespace isoimpact
                            surfaces[1].reference_lengths,
                            *displacements[1])}};
 
-    const double eps = penalty_per_pass();
     // Both passes see (nearly) the same gap: the pressure they carry
-    // together is 2 eps_pass |g|.
-    const double reported_penalty = 2. * eps;
+    // together is twice the pressure of one pass, 2 eps_pass |g| undamped.
+    const double eps = penalty_per_pass();
 
     ContactResult<dim>        result;
     std::vector<double>       r, dr;
@@ -482,19 +560,47 @@ namespace isoimpact
                 !(projection.gap < 0.))
               continue;
 
-            const Tensor<1, dim> force =
-              add_penalty_traction(surfaces[body].segments[point.segment],
-                                   point,
-                                   surfaces[other].segments[projection.segment],
-                                   projection,
-                                   eps,
-                                   *forces[body],
-                                   *forces[other],
-                                   r,
-                                   dr);
-            const double gap = projection.gap;
+            const auto &segment = surfaces[body].segments[point.segment];
+            const auto &other_segment =
+              surfaces[other].segments[projection.segment];
+            evaluate_segment_basis(other_segment, projection.eta, r, dr);
+            const double gap      = projection.gap;
+            double       pressure = -eps * gap;
+            if (damped)
+              {
+                // c_pass = xi sqrt(2 eps_pass mu): the two passes together
+                // damp the pair's spring 2 eps_pass critically at xi = 1.
+                const double mu_own =
+                  surfaces[body].mass_density(point.segment,
+                                              point.shape_values);
+                const double mu_other =
+                  surfaces[other].mass_density(projection.segment, r);
+                const double mu = mu_own * mu_other / (mu_own + mu_other);
+                const double damping =
+                  settings.damping_ratio * std::sqrt(2. * eps * mu);
+                const double gap_rate =
+                  (point_velocity(segment,
+                                  point.shape_values,
+                                  *velocities[body]) -
+                   point_velocity(other_segment, r, *velocities[other])) *
+                  projection.normal;
+                // No adhesion: the damping may lower the pressure to zero.
+                const double damped_pressure =
+                  std::max(0., pressure - damping * gap_rate);
+                result.damping_power +=
+                  (pressure - damped_pressure) * gap_rate * point.weight;
+                pressure = damped_pressure;
+              }
+            const Tensor<1, dim> force = add_contact_traction(segment,
+                                                              point,
+                                                              other_segment,
+                                                              r,
+                                                              projection.normal,
+                                                              pressure,
+                                                              *forces[body],
+                                                              *forces[other]);
             result.add_active_point(
-              {point.reference_position, -reported_penalty * gap, gap, body},
+              {point.reference_position, 2. * pressure, gap, body},
               0.5 * eps * gap * gap * point.weight,
               sign_on_body_0 * force,
               record_points);
@@ -504,6 +610,11 @@ namespace isoimpact
   }
 
   template struct ContactResult<2>;
+  template class SurfaceMassDensity<2>;
+  template Tensor<1, 2>
+  point_velocity(const BoundarySegment<2> &,
+                 const std::vector<double> &,
+                 const Vector<double> &);
   template class PenaltyContact<2>;
   template std::vector<SurfaceQuadraturePoint<2>>
   surface_quadrature(const std::vector<BoundarySegment<2>> &,

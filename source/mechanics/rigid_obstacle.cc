@@ -113,14 +113,35 @@ namespace isoimpact
   }
 
   template <int dim>
+  void
+  RigidObstacleContact<dim>::set_surface_masses(
+    const std::vector<const Vector<double> *> &nodal_masses)
+  {
+    AssertDimension(nodal_masses.size(), 1);
+    mass_density = SurfaceMassDensity<dim>(segments, *nodal_masses[0]);
+  }
+
+  template <int dim>
+  double
+  RigidObstacleContact<dim>::damping_ratio() const
+  {
+    return settings.damping_ratio;
+  }
+
+  template <int dim>
   ContactResult<dim>
   RigidObstacleContact<dim>::evaluate(
     const std::vector<const Vector<double> *> &displacements,
+    const std::vector<const Vector<double> *> &velocities,
     const std::vector<Vector<double> *>       &forces,
     const bool                                 record_points) const
   {
     AssertDimension(displacements.size(), 1);
     AssertDimension(forces.size(), 1);
+    const bool damped = settings.damping_ratio > 0.;
+    AssertThrow(!damped || (velocities.size() == 1 && !mass_density.empty()),
+                ExcMessage("contact damping needs the velocity and the "
+                           "surface masses of the body"));
     const double       eps = settings.penalty;
     ContactResult<dim> result;
     for (const auto &point : points)
@@ -132,10 +153,25 @@ namespace isoimpact
         const double   g = rigid_obstacle.gap(x, n);
         if (!(g < 0.))
           continue;
-        // Traction -eps g n on the body, i.e. -dPi/dx with Pi = eps/2 g^2.
-        const Tensor<1, dim> force = -eps * g * point.weight * n;
+        // Traction -eps g n on the body, i.e. -dPi/dx with Pi = eps/2 g^2,
+        // less the damping c dg/dt, c = xi 2 sqrt(eps mu), down to zero.
+        double pressure = -eps * g;
+        if (damped)
+          {
+            const double damping =
+              settings.damping_ratio * 2. *
+              std::sqrt(eps * mass_density(point.segment, point.shape_values));
+            const double gap_rate =
+              point_velocity(segment, point.shape_values, *velocities[0]) * n;
+            const double damped_pressure =
+              std::max(0., pressure - damping * gap_rate);
+            result.damping_power +=
+              (pressure - damped_pressure) * gap_rate * point.weight;
+            pressure = damped_pressure;
+          }
+        const Tensor<1, dim> force = pressure * point.weight * n;
         distribute_point_force(segment, point.shape_values, force, *forces[0]);
-        result.add_active_point({point.reference_position, -eps * g, g, 0},
+        result.add_active_point({point.reference_position, pressure, g, 0},
                                 0.5 * eps * g * g * point.weight,
                                 force,
                                 record_points);
@@ -150,6 +186,8 @@ namespace isoimpact
     std::ostringstream s;
     s << rigid_obstacle.description() << ", penalty " << settings.penalty
       << " Pa/m, " << settings.n_quadrature_points << " Gauss points per face";
+    if (settings.damping_ratio > 0.)
+      s << ", contact damping " << settings.damping_ratio << " of critical";
     return s.str();
   }
 

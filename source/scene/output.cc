@@ -146,7 +146,9 @@ namespace isoimpact
         << "# units: time [s], contact_force [N/m] (resultant on body 1 "
            "along the line of impact, per unit thickness, full bodies), "
            "max_contact_pressure [Pa], energies [J/m] (per unit "
-           "thickness, full bodies), analytic columns: quasi-static "
+           "thickness, full bodies; contact_damping_work: the work the "
+           "contact damping removed since t = 0, included in "
+           "total_energy), analytic columns: quasi-static "
            "Hertz impact ("
         << parameters.approach_law << ")\n";
     if (parameters.obstacle.active())
@@ -157,7 +159,7 @@ namespace isoimpact
              "energies are those of the model times "
           << scene.symmetry_factor << "\n";
     out << "time,contact_force,max_contact_pressure,kinetic_energy,"
-           "strain_energy,contact_energy,total_energy";
+           "strain_energy,contact_energy,contact_damping_work,total_energy";
     if (scene.reference)
       out << ",analytic_contact_force,analytic_max_contact_pressure";
     out << '\n' << std::setprecision(10);
@@ -174,7 +176,8 @@ namespace isoimpact
     const double factor = scene.symmetry_factor;
     out << time << ',' << contact_force << ',' << max_pressure << ','
         << factor * energy.kinetic << ',' << factor * energy.strain << ','
-        << factor * energy.contact << ',' << factor * energy.total();
+        << factor * energy.contact << ',' << factor * energy.contact_damping
+        << ',' << factor * energy.total();
     if (scene.reference)
       out << ',' << scene.reference->contact_force(time) << ','
           << scene.reference->max_contact_pressure(time);

@@ -224,6 +224,15 @@ namespace isoimpact
                       "4",
                       Patterns::Integer(1, 20),
                       "Gauss points of the contact integral on each face.");
+    prm.declare_entry(
+      "Damping ratio",
+      "0",
+      Patterns::Double(0., 1.),
+      "Viscous contact damping as a fraction of the critical damping "
+      "2 sqrt(eps mu) of the penalty spring on the surface mass mu, in "
+      "[0, 1]; 0 = none. It damps the contact chatter; the stable step "
+      "bound is reduced by sqrt(1 + xi^2) - xi. Applies to every contact, "
+      "rigid obstacles included (doc/formulation.md).");
     prm.leave_subsection();
 
     prm.enter_subsection("Obstacle");
@@ -418,6 +427,7 @@ namespace isoimpact
     contact.penalty_per_pass =
       penalty_per_pass_names.from_string(prm.get("Penalty per pass"));
     contact.n_quadrature_points = prm.get_integer("Quadrature points per face");
+    contact.damping_ratio       = prm.get_double("Damping ratio");
     prm.leave_subsection();
 
     prm.enter_subsection("Obstacle");

@@ -1,4 +1,5 @@
 // Layer 6: building a scene.
+#include <isoimpact/mechanics/assembly.h>
 #include <isoimpact/scene/scene.h>
 
 #include <cmath>
@@ -70,6 +71,7 @@ namespace isoimpact
         ObstacleContactSettings settings;
         settings.penalty             = obstacle.penalty;
         settings.n_quadrature_points = parameters.contact.n_quadrature_points;
+        settings.damping_ratio       = parameters.contact.damping_ratio;
         for (const auto &wall : rigid)
           {
             scene.contacts.push_back(std::make_unique<RigidObstacleContact<2>>(
@@ -90,6 +92,30 @@ namespace isoimpact
             BodyGeometry::curved_boundary_id)));
         scene.interactions.push_back({scene.contacts.back().get(), 0, 1});
         relative_velocity += parameters.bodies[1].initial_velocity;
+      }
+
+    // The contact damping scales with the surface mass: the lumped masses
+    // in use, or HRZ's for a consistent mass.
+    if (parameters.contact.damping_ratio > 0.)
+      {
+        std::vector<Vector<double>> masses;
+        for (const auto &body : scene.bodies)
+          masses.push_back(body->lumped_masses().size() > 0 ?
+                             body->lumped_masses() :
+                             assemble_lumped_mass(body->discretization(),
+                                                  body->material().density,
+                                                  MassScheme::hrz,
+                                                  body->constraints()));
+        // scene.contacts[c] is the model of scene.interactions[c].
+        for (unsigned int c = 0; c < scene.contacts.size(); ++c)
+          {
+            const auto &interaction = scene.interactions[c];
+            std::vector<const Vector<double> *> model_masses = {
+              &masses[interaction.first_body]};
+            if (interaction.contact->n_bodies() == 2)
+              model_masses.push_back(&masses[interaction.second_body]);
+            scene.contacts[c]->set_surface_masses(model_masses);
+          }
       }
 
     if (relative_velocity.norm() > 0.)

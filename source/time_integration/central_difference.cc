@@ -38,10 +38,12 @@ namespace isoimpact
         if (interaction.contact->n_bodies() == 2)
           involved.push_back(interaction.second_body);
         contact_displacements.emplace_back();
+        contact_velocities.emplace_back();
         contact_forces.emplace_back();
         for (const unsigned int b : involved)
           {
             contact_displacements.back().push_back(&bodies[b]->displacement);
+            contact_velocities.back().push_back(&half_step_velocity[b]);
             contact_forces.back().push_back(&forces[b]);
           }
       }
@@ -56,6 +58,7 @@ namespace isoimpact
       f = 0.;
     for (unsigned int c = 0; c < contacts.size(); ++c)
       results[c] = contacts[c].contact->evaluate(contact_displacements[c],
+                                                 contact_velocities[c],
                                                  contact_forces[c],
                                                  record_contact_points);
     for (unsigned int b = 0; b < bodies.size(); ++b)
@@ -68,12 +71,12 @@ namespace isoimpact
   void
   CentralDifference<dim>::initialize(const bool record_contact_points)
   {
+    // The contact damping reads half_step_velocity: v^0 at t = 0.
+    for (unsigned int b = 0; b < bodies.size(); ++b)
+      half_step_velocity[b] = bodies[b]->velocity;
     compute_accelerations(record_contact_points);
     for (unsigned int b = 0; b < bodies.size(); ++b)
-      {
-        half_step_velocity[b] = bodies[b]->velocity;
-        half_step_velocity[b].add(0.5 * dt, bodies[b]->acceleration);
-      }
+      half_step_velocity[b].add(0.5 * dt, bodies[b]->acceleration);
   }
 
   template <int dim>
@@ -83,6 +86,8 @@ namespace isoimpact
     for (unsigned int b = 0; b < bodies.size(); ++b)
       bodies[b]->displacement.add(dt, half_step_velocity[b]);
     compute_accelerations(record_contact_points);
+    for (const auto &result : results)
+      contact_damping_work += dt * result.damping_power;
     for (unsigned int b = 0; b < bodies.size(); ++b)
       {
         // v^{n+1} = v^{n+1/2} + dt/2 a^{n+1}; v^{n+3/2} = v^{n+1/2} + dt a.
@@ -141,6 +146,7 @@ namespace isoimpact
       energy.strain += body->strain_energy(body->displacement);
     for (const auto &result : results)
       energy.contact += result.energy;
+    energy.contact_damping = contact_damping_work;
     return energy;
   }
 

@@ -29,6 +29,18 @@ namespace isoimpact
       std::numeric_limits<double>::infinity();
     for (unsigned int b = 0; b < bodies.size(); ++b)
       step = step.min(compute_stable_time_step(*bodies[b], springs[b]));
+    // A damper c with the half-step velocity on a spring-mass of frequency
+    // omega and damping ratio xi = c / (2 m omega) is stable for omega dt <=
+    // 2 (sqrt(1 + xi^2) - xi). The contact damping is xi of the critical
+    // damping of a contact spring smaller than the one counted above, so
+    // its ratio in the highest mode is at most xi: the factor is safe.
+    double xi = 0.;
+    for (const auto &interaction : contacts)
+      xi = std::max(xi, interaction.contact->damping_ratio());
+    const double damping_factor = std::sqrt(1. + xi * xi) - xi;
+    step.element_bound *= damping_factor;
+    step.gershgorin_bound *= damping_factor;
+    step.power_estimate *= damping_factor;
     return step;
   }
 

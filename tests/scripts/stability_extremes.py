@@ -187,10 +187,11 @@ elif group == "channel":
          "Time integration/Time step": "auto",
          "Time integration/End time": "10"})
     completed("channel", code, summary)
-    rows = [line.split(",") for line in open(os.path.join(folder, "history.csv"))
-            if line.strip() and not line.startswith("#") and not line[0].isalpha()]
-    force = [float(r[1]) for r in rows]
-    energy = [float(r[6]) for r in rows]
+    lines = [line.strip().split(",") for line in open(os.path.join(folder, "history.csv"))
+             if line.strip() and not line.startswith("#")]
+    columns = {name: i for i, name in enumerate(lines[0])}
+    force = [float(r[columns["contact_force"]]) for r in lines[1:]]
+    energy = [float(r[columns["total_energy"]]) for r in lines[1:]]
     # Impacts: entries into contact after at least 0.1 s of free flight.
     impacts, free = 0, 0
     for f in force:

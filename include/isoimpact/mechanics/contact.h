@@ -42,6 +42,10 @@ namespace isoimpact
     double         penalty             = 1e5; // eps_N, Pa/m
     PenaltyPerPass penalty_per_pass    = PenaltyPerPass::half;
     unsigned int   n_quadrature_points = 4; // Gauss points per segment
+    // Viscous contact damping as a fraction xi of the critical damping
+    // 2 sqrt(eps mu) of the penalty spring on the surface mass mu (see
+    // SurfaceMassDensity); 0 = none.
+    double damping_ratio = 0.;
   };
 
   // A Gauss point of a contact surface where the penalty is active.
@@ -59,7 +63,9 @@ namespace isoimpact
   template <int dim>
   struct ContactResult
   {
-    double                         energy = 0.; // J/m (per unit thickness)
+    double energy = 0.; // J/m (per unit thickness)
+    // Power removed by the contact damping, W/m (>= 0).
+    double                         damping_power   = 0.;
     double                         max_pressure    = 0.; // Pa
     double                         max_penetration = 0.; // m, -min g_N
     dealii::Tensor<1, dim>         force_on_body_0;      // N/m, resultant
@@ -136,6 +142,45 @@ namespace isoimpact
   };
 
   /**
+   * Mass per unit reference length of a contact surface (kg/m^2 per unit
+   * thickness), from the lumped nodal masses m_k of its body: mu_k = m_k /
+   * int N_k ds at each surface node k, interpolated with the nodal
+   * functions. It sets the critical damping 2 sqrt(eps mu) of a penalty
+   * spring eps on the surface.
+   */
+  template <int dim>
+  class SurfaceMassDensity
+  {
+  public:
+    SurfaceMassDensity() = default;
+    // `nodal_masses` per unknown (the x component is read).
+    SurfaceMassDensity(const std::vector<BoundarySegment<dim>> &segments,
+                       const dealii::Vector<double>            &nodal_masses);
+
+    bool
+    empty() const;
+
+    // mu at a point of `segment` where its nodal functions take
+    // `shape_values`.
+    double
+    operator()(const unsigned int         segment,
+               const std::vector<double> &shape_values) const;
+
+  private:
+    std::vector<std::vector<double>> node_densities; // [segment][node]
+  };
+
+  /**
+   * Velocity sum_k R_k v_k of a point of `segment` where its nodal functions
+   * take `shape_values`.
+   */
+  template <int dim>
+  dealii::Tensor<1, dim>
+  point_velocity(const BoundarySegment<dim>   &segment,
+                 const std::vector<double>    &shape_values,
+                 const dealii::Vector<double> &v);
+
+  /**
    * The interface through which the time integrator (layer 5) sees a contact
    * model: it acts on one body (against a rigid obstacle) or two. evaluate()
    * is the one entry of every model.
@@ -152,12 +197,26 @@ namespace isoimpact
 
     // Adds the contact forces for the current displacements (in each body's
     // unknowns) to the force vectors; one entry per body, in the model's
-    // order. Returns energy, pressure and the resultant on body 0; with
-    // `record_points` also every active Gauss point.
+    // order. The velocities (the half-step velocities of central
+    // differences) are read only with contact damping and may then not be
+    // empty. Returns energy, pressure, damping power and the resultant on
+    // body 0; with `record_points` also every active Gauss point.
     virtual ContactResult<dim>
     evaluate(const std::vector<const dealii::Vector<double> *> &displacements,
+             const std::vector<const dealii::Vector<double> *> &velocities,
              const std::vector<dealii::Vector<double> *>       &forces,
              const bool record_points) const = 0;
+
+    // The lumped nodal masses of each body (model order), which the contact
+    // damping needs; must be called before evaluate() if damping_ratio() >
+    // 0.
+    virtual void
+    set_surface_masses(
+      const std::vector<const dealii::Vector<double> *> &nodal_masses) = 0;
+
+    // The contact damping as a fraction of critical (0: none).
+    virtual double
+    damping_ratio() const = 0;
 
     // One line for the program's set-up report.
     virtual std::string
@@ -188,8 +247,19 @@ namespace isoimpact
 
     ContactResult<dim>
     evaluate(const std::vector<const dealii::Vector<double> *> &displacements,
+             const std::vector<const dealii::Vector<double> *> &velocities,
              const std::vector<dealii::Vector<double> *>       &forces,
              const bool record_points) const override;
+
+    // The damping of a point pair uses the reduced surface mass
+    // mu_0 mu_1 / (mu_0 + mu_1) and the spring of both passes, 2 eps_pass;
+    // each pass carries half of it.
+    void
+    set_surface_masses(
+      const std::vector<const dealii::Vector<double> *> &nodal_masses) override;
+
+    double
+    damping_ratio() const override;
 
     std::string
     description() const override;
@@ -216,6 +286,7 @@ namespace isoimpact
       std::vector<BoundarySegment<dim>>        segments;
       std::vector<double>                      reference_lengths;
       std::vector<SurfaceQuadraturePoint<dim>> points;
+      SurfaceMassDensity<dim>                  mass_density;
     };
 
     ContactSettings        settings;

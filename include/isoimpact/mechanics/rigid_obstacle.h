@@ -80,6 +80,7 @@ namespace isoimpact
   {
     double       penalty             = 2e5; // eps_obstacle, Pa/m
     unsigned int n_quadrature_points = 4;   // Gauss points per segment
+    double       damping_ratio       = 0.;  // fraction of critical
   };
 
   /**
@@ -102,8 +103,16 @@ namespace isoimpact
 
     ContactResult<dim>
     evaluate(const std::vector<const dealii::Vector<double> *> &displacements,
+             const std::vector<const dealii::Vector<double> *> &velocities,
              const std::vector<dealii::Vector<double> *>       &forces,
              const bool record_points) const override;
+
+    void
+    set_surface_masses(
+      const std::vector<const dealii::Vector<double> *> &nodal_masses) override;
+
+    double
+    damping_ratio() const override;
 
     std::string
     description() const override;
@@ -126,6 +135,7 @@ namespace isoimpact
     RigidObstacle<dim>                       rigid_obstacle;
     std::vector<BoundarySegment<dim>>        segments;
     std::vector<SurfaceQuadraturePoint<dim>> points;
+    SurfaceMassDensity<dim>                  mass_density;
   };
 } // namespace isoimpact
 

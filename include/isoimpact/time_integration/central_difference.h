@@ -31,10 +31,14 @@ namespace isoimpact
     double kinetic = 0.;
     double strain  = 0.;
     double contact = 0.;
+    // Work removed by the contact damping since t = 0.
+    double contact_damping = 0.;
+    // What the input energy should equal: the energies plus the work
+    // removed.
     double
     total() const
     {
-      return kinetic + strain + contact;
+      return kinetic + strain + contact + contact_damping;
     }
   };
 
@@ -101,9 +105,13 @@ namespace isoimpact
     // Per contact interaction, built once: its bodies' displacements and
     // force vectors, in the order the contact model expects.
     std::vector<std::vector<const dealii::Vector<double> *>>
-                                                       contact_displacements;
-    std::vector<std::vector<dealii::Vector<double> *>> contact_forces;
-    std::vector<ContactResult<dim>>                    results;
+      contact_displacements;
+    std::vector<std::vector<const dealii::Vector<double> *>> contact_velocities;
+    std::vector<std::vector<dealii::Vector<double> *>>       contact_forces;
+    // Work of the contact damping since t = 0: dt times its power at each
+    // step (the power with the half-step velocities the damping uses).
+    double                          contact_damping_work = 0.;
+    std::vector<ContactResult<dim>> results;
   };
 } // namespace isoimpact
 
