@@ -8,6 +8,10 @@ one or more run directories (each with history.csv at History interval = 1):
 - force trend peak [N/m], maximal-pressure trend peak [Pa];
 - energy error: max over the run of |total_energy - E0| / E0 (the total
   includes the work of the contact damping);
+- profile RMS: RMS over |x| < 0.9 a of (consistent pressure - Hertz
+  pressure) in % of p0, from the pressure profile at t = 0.375 s (a and p0
+  of the analytic profile in the same file); the same for the Gauss-point
+  pressure;
 - contact duration [s] and time step [s] from summary.json.
 
 usage: python3 scripts/contact_measures.py RUN_DIR [RUN_DIR ...]"""
@@ -21,6 +25,31 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from isoimpact_results import moving_average, read_history, window_width  # noqa: E402
 
 TREND_WINDOW_S = 0.05
+
+
+PROFILE_TIME_S = 0.375
+
+
+def profile_rms(directory):
+    """(consistent, Gauss-point) RMS deviation from the Hertz profile over
+    |x| < 0.9 a, in % of p0; None if there is no profile at 0.375 s."""
+    import glob
+    files = glob.glob(os.path.join(directory, "contact_pressure_t*.csv"))
+    if not files:
+        return None, None
+    # the program writes a profile at the first step at or after the time
+    path = min(files, key=lambda f: abs(float(os.path.basename(f)[18:-4]) - PROFILE_TIME_S))
+    from isoimpact_results import read_columns
+    p = read_columns(path)
+    analytic = p["analytic_pressure"]
+    p0 = float(np.max(analytic))
+    inside = analytic > 0
+    # a from the outermost point of the analytic support: p = p0 sqrt(1 - x^2/a^2)
+    k = np.argmax(np.where(inside, np.abs(p["position"]), -1))
+    a = abs(p["position"][k]) / np.sqrt(1 - (analytic[k] / p0) ** 2)
+    mask = np.abs(p["position"]) < 0.9 * a
+    rms = lambda c: 100 * float(np.sqrt(np.mean((p[c][mask] - analytic[mask]) ** 2))) / p0  # noqa: E731
+    return rms("pressure"), rms("gauss_point_pressure")
 
 
 def measures(directory):
@@ -41,11 +70,16 @@ def measures(directory):
     total = history["total_energy"]
     with open(os.path.join(directory, "summary.json")) as f:
         summary = json.load(f)
+    profile, gauss_profile = profile_rms(directory)
     return {"run": os.path.basename(os.path.normpath(directory)),
             "time_step_s": summary["time_step_s"],
             "force_trend_peak_N_per_m": peak,
             "force_chatter_percent": 100 * chatter,
             "pressure_trend_peak_Pa": float(np.max(pressure_trend)),
+            "gauss_pressure_trend_peak_Pa": float(np.max(moving_average(
+                history["max_gauss_point_pressure"], width))),
+            "profile_rms_percent_p0": profile,
+            "gauss_profile_rms_percent_p0": gauss_profile,
             "energy_error_percent": 100 * float(np.max(np.abs(total - total[0])) / total[0]),
             "damping_work_percent": 100 * float(history.get("contact_damping_work", [0])[-1] / total[0]),
             "contact_duration_s": summary.get("contact_duration_s"),

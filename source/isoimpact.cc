@@ -237,6 +237,9 @@ namespace isoimpact
         sum.energy += result.energy;
         sum.force_on_body_0 += sign * result.force_on_body_0;
         sum.max_pressure = std::max(sum.max_pressure, result.max_pressure);
+        sum.max_gauss_point_pressure =
+          std::max(sum.max_gauss_point_pressure,
+                   result.max_gauss_point_pressure);
         sum.max_penetration =
           std::max(sum.max_penetration, result.max_penetration);
         sum.n_active_points += result.n_active_points;
@@ -271,6 +274,7 @@ namespace isoimpact
         history->write(step.time,
                        step.contact_force,
                        step.max_pressure,
+                       result.max_gauss_point_pressure,
                        energy);
       }
     summary->add_step(step);

@@ -12,14 +12,16 @@
 //    g = -g0, so with 4 Gauss points (exact for the quadratic functions)
 //    - resultant (0, eps g0 L), nodal forces eps g0 L (1/6, 2/3, 1/6) in y,
 //      none in x;
-//    - energy 1/2 eps g0^2 L, max pressure eps g0, 4 active points; 1e-12.
+//    - energy 1/2 eps g0^2 L, max pressure eps g0, 4 active points; 1e-12;
+//    - the consistent pressure (a flat punch, uniform overlap): eps g0 at
+//      every Gauss point, 1e-12.
 //    Without the displacement (segment above the plane): no force.
 // C. A radial segment against the cylinder of A: nodes (0, -0.03),
 //    (0, -0.02), (0, -0.01) (inside the circle, normal (0, 1), g = y):
 //    resultant eps int |y| dy = eps 4e-4 in y, energy 1/2 eps int y^2 dy =
 //    eps (0.03^3 - 0.01^3)/6; both integrands are polynomials of degree
-//    <= 2, exact with 4 Gauss points: 1e-12. The maximal pressure is that
-//    of the deepest Gauss point, eps |y(eta_1)|.
+//    <= 2, exact with 4 Gauss points: 1e-12. The maximal Gauss-point
+//    pressure is that of the deepest Gauss point, eps |y(eta_1)|.
 // D. A horizontal segment y = -0.01, x in [-1, 1], against the same
 //    cylinder (gap varies along the segment, normal turns): the forces are
 //    minus the gradient of the contact energy, checked by central
@@ -152,10 +154,20 @@ main()
                     true);
       }
     check_close("energy", result.energy, 0.5 * eps * g0 * g0 * L, 1e-12);
-    check_close("max pressure", result.max_pressure, eps * g0, 1e-12);
+    // A uniform overlap (flat punch): the Gauss-point pressure and the
+    // consistent pressure field are both eps g0 exactly.
+    check_close("max Gauss-point pressure",
+                result.max_gauss_point_pressure,
+                eps * g0,
+                1e-12);
+    check_close("max consistent pressure",
+                result.max_pressure,
+                eps * g0,
+                1e-12);
     CHECK_TRUE(result.n_active_points == 4 && result.points.size() == 4);
     for (const auto &point : result.points)
       CHECK_TRUE(std::abs(point.gap + g0) < 1e-14 &&
+                 std::abs(point.gauss_point_pressure - eps * g0) < 1e-9 &&
                  std::abs(point.pressure - eps * g0) < 1e-9);
 
     Vector<double>         zero(6), f0(6);
@@ -183,7 +195,7 @@ main()
     const double eta_1 =
       0.5 * (1. - std::sqrt(3. / 7. + 2. / 7. * std::sqrt(6. / 5.)));
     check_close("max pressure (deepest Gauss point)",
-                result.max_pressure,
+                result.max_gauss_point_pressure,
                 eps * (0.03 - 0.02 * eta_1),
                 1e-12);
   }

@@ -212,22 +212,42 @@ namespace
                                      1e-10,
                                      true);
 
-        // Recorded points: pressure = 2 eps_pass |g|, max is the largest.
-        double max_recorded = 0., pressure_error = 0.;
+        // Recorded points: the Gauss-point pressure is 2 eps_pass |g| where
+        // active, max is the largest; the consistent pressure's max is the
+        // largest recorded one.
+        double max_recorded = 0., pressure_error = 0., max_consistent = 0.;
+        unsigned int n_recorded_active = 0;
         for (const auto &point : result.points)
           {
-            max_recorded   = std::max(max_recorded, point.pressure);
+            max_consistent = std::max(max_consistent, point.pressure);
+            if (!(point.gap < 0.))
+              {
+                CHECK_TRUE(point.gauss_point_pressure == 0.);
+                continue;
+              }
+            ++n_recorded_active;
+            max_recorded   = std::max(max_recorded, point.gauss_point_pressure);
             pressure_error = std::max(pressure_error,
-                                      std::abs(point.pressure -
+                                      std::abs(point.gauss_point_pressure -
                                                2. * contact.penalty_per_pass() *
                                                  (-point.gap)));
-            CHECK_TRUE(point.gap < 0.);
           }
-        CHECK_CLOSE(result.max_pressure, max_recorded, 1e-14);
+        CHECK_TRUE(n_recorded_active == result.n_active_points);
+        CHECK_CLOSE(result.max_gauss_point_pressure, max_recorded, 1e-14);
+        CHECK_CLOSE(result.max_pressure, max_consistent, 1e-14);
         CHECK_CLOSE_ABS(pressure_error / max_recorded, 0., 1e-14);
-        // No point penetrates deeper than the approach.
-        CHECK_TRUE(result.max_pressure <=
+        // No point penetrates deeper than the approach. The projection is a
+        // weighted mean of the point values, but the quadratic Lagrange
+        // functions are negative in parts of a face, so it may exceed the
+        // largest point value a little (measured 6 %, 3 %, 1 % at 2, 3, 4
+        // refinements).
+        CHECK_TRUE(result.max_gauss_point_pressure <=
                    2. * contact.penalty_per_pass() * 0.1 * (1. + 1e-12));
+        std::cout << "    consistent / Gauss-point max pressure "
+                  << result.max_pressure / result.max_gauss_point_pressure
+                  << std::endl;
+        CHECK_TRUE(result.max_pressure <= result.max_gauss_point_pressure *
+                                            (refinements >= 4 ? 1.02 : 1.1));
 
         const double exact =
           exact_circle_resultant(contact.penalty_per_pass(), 4., 0.1);
@@ -245,6 +265,9 @@ namespace
                 1e-12);
     CHECK_CLOSE(results[0].energy, 0.5 * results[1].energy, 1e-12);
     CHECK_CLOSE(results[0].max_pressure, 0.5 * results[1].max_pressure, 1e-12);
+    CHECK_CLOSE(results[0].max_gauss_point_pressure,
+                0.5 * results[1].max_gauss_point_pressure,
+                1e-12);
     CHECK_TRUE(results[0].n_active_points == results[1].n_active_points);
   }
 

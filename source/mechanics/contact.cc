@@ -8,6 +8,7 @@
 #include <boost/geometry/index/rtree.hpp>
 #include <boost/iterator/function_output_iterator.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -95,24 +96,90 @@ namespace isoimpact
   }
 
   template <int dim>
-  SurfaceMassDensity<dim>::SurfaceMassDensity(
-    const std::vector<BoundarySegment<dim>> &segments,
-    const Vector<double>                    &nodal_masses)
-    : node_densities(segments.size())
+  SurfaceNodes<dim>::SurfaceNodes(
+    const std::vector<BoundarySegment<dim>>        &segments,
+    const std::vector<SurfaceQuadraturePoint<dim>> &points)
+    : node_of_segment(segments.size())
   {
-    // int N_k ds per unknown, exact for the segments' polynomial degree.
-    std::map<types::global_dof_index, double> areas;
-    for (const auto &point : surface_quadrature(segments, 6))
-      for (unsigned int k = 0; k < point.shape_values.size(); ++k)
-        areas[segments[point.segment].node_dofs[k][0]] +=
-          point.shape_values[k] * point.weight;
+    std::map<types::global_dof_index, unsigned int> node_of_dof;
     for (unsigned int s = 0; s < segments.size(); ++s)
       for (const auto &dofs : segments[s].node_dofs)
         {
-          const double area = areas[dofs[0]];
-          node_densities[s].push_back(area > 0. ? nodal_masses(dofs[0]) / area :
-                                                  0.);
+          const auto inserted = node_of_dof.emplace(dofs[0], x_dof.size());
+          if (inserted.second)
+            x_dof.push_back(dofs[0]);
+          node_of_segment[s].push_back(inserted.first->second);
         }
+    area.assign(x_dof.size(), 0.);
+    for (const auto &point : points)
+      for (unsigned int k = 0; k < point.shape_values.size(); ++k)
+        area[node_of_segment[point.segment][k]] +=
+          point.shape_values[k] * point.weight;
+  }
+
+  template <int dim>
+  void
+  SurfaceNodes<dim>::project_pressure(
+    const std::vector<SurfaceQuadraturePoint<dim>> &points,
+    const std::vector<double>                      &point_pressure,
+    std::vector<double>                            &nodal,
+    std::vector<double>                            &field) const
+  {
+    AssertDimension(point_pressure.size(), points.size());
+    nodal.assign(area.size(), 0.);
+    for (unsigned int q = 0; q < points.size(); ++q)
+      if (point_pressure[q] != 0.)
+        for (unsigned int k = 0; k < points[q].shape_values.size(); ++k)
+          nodal[node_of_segment[points[q].segment][k]] +=
+            point_pressure[q] * points[q].weight * points[q].shape_values[k];
+    for (unsigned int i = 0; i < nodal.size(); ++i)
+      nodal[i] = area[i] > 0. ? nodal[i] / area[i] : 0.;
+    field.assign(points.size(), 0.);
+    for (unsigned int q = 0; q < points.size(); ++q)
+      for (unsigned int k = 0; k < points[q].shape_values.size(); ++k)
+        field[q] += points[q].shape_values[k] *
+                    nodal[node_of_segment[points[q].segment][k]];
+  }
+
+  template <int dim>
+  void
+  add_surface_pressure(const SurfaceNodes<dim>                        &nodes,
+                       const std::vector<SurfaceQuadraturePoint<dim>> &points,
+                       const std::vector<double> &point_pressure,
+                       const std::vector<double> &point_gap,
+                       const unsigned int         body,
+                       const bool                 record_points,
+                       std::vector<double>       &nodal,
+                       std::vector<double>       &field,
+                       ContactResult<dim>        &result)
+  {
+    if (result.n_active_points == 0)
+      return;
+    nodes.project_pressure(points, point_pressure, nodal, field);
+    for (unsigned int q = 0; q < points.size(); ++q)
+      {
+        result.max_pressure = std::max(result.max_pressure, field[q]);
+        if (record_points && (field[q] > 0. || point_pressure[q] > 0.))
+          result.points.push_back({points[q].reference_position,
+                                   field[q],
+                                   point_pressure[q],
+                                   point_gap[q],
+                                   body});
+      }
+  }
+
+  template <int dim>
+  SurfaceMassDensity<dim>::SurfaceMassDensity(
+    const SurfaceNodes<dim> &nodes,
+    const Vector<double>    &nodal_masses)
+    : node_densities(nodes.node_of_segment.size())
+  {
+    for (unsigned int s = 0; s < node_densities.size(); ++s)
+      for (const unsigned int node : nodes.node_of_segment[s])
+        node_densities[s].push_back(nodes.area[node] > 0. ?
+                                      nodal_masses(nodes.x_dof[node]) /
+                                        nodes.area[node] :
+                                      0.);
   }
 
   template <int dim>
@@ -137,18 +204,17 @@ namespace isoimpact
   template <int dim>
   void
   ContactResult<dim>::add_active_point(
-    const ContactPoint<dim> &point,
-    const double             point_energy,
-    const Tensor<1, dim>    &point_force_on_body_0,
-    const bool               record_point)
+    const double          gauss_point_pressure,
+    const double          gap,
+    const double          point_energy,
+    const Tensor<1, dim> &point_force_on_body_0)
   {
     energy += point_energy;
     force_on_body_0 += point_force_on_body_0;
-    max_pressure    = std::max(max_pressure, point.pressure);
-    max_penetration = std::max(max_penetration, -point.gap);
+    max_gauss_point_pressure =
+      std::max(max_gauss_point_pressure, gauss_point_pressure);
+    max_penetration = std::max(max_penetration, -gap);
     ++n_active_points;
-    if (record_point)
-      points.push_back(point);
   }
 
   namespace
@@ -446,10 +512,16 @@ namespace isoimpact
                            "the boundary ids declared as contact surfaces"));
     surfaces[0].segments = std::move(surface_of_body_0);
     surfaces[1].segments = std::move(surface_of_body_1);
-    for (Surface &surface : surfaces)
-      surface.points = surface_quadrature(surface.segments,
-                                          settings.n_quadrature_points,
-                                          &surface.reference_lengths);
+    for (unsigned int b = 0; b < 2; ++b)
+      {
+        Surface &surface = surfaces[b];
+        surface.points   = surface_quadrature(surface.segments,
+                                            settings.n_quadrature_points,
+                                            &surface.reference_lengths);
+        surface.nodes    = SurfaceNodes<dim>(surface.segments, surface.points);
+        point_pressure[b].resize(surface.points.size());
+        point_gap[b].resize(surface.points.size());
+      }
   }
 
   template <int dim>
@@ -505,7 +577,7 @@ namespace isoimpact
     AssertDimension(nodal_masses.size(), 2);
     for (unsigned int b = 0; b < 2; ++b)
       surfaces[b].mass_density =
-        SurfaceMassDensity<dim>(surfaces[b].segments, *nodal_masses[b]);
+        SurfaceMassDensity<dim>(surfaces[b].nodes, *nodal_masses[b]);
   }
 
   template <int dim>
@@ -550,9 +622,12 @@ namespace isoimpact
       {
         const unsigned int other          = 1 - body;
         const double       sign_on_body_0 = (body == 0) ? 1. : -1.;
-        for (const auto &point : surfaces[body].points)
+        std::fill(point_pressure[body].begin(), point_pressure[body].end(), 0.);
+        std::fill(point_gap[body].begin(), point_gap[body].end(), 0.);
+        for (unsigned int q = 0; q < surfaces[body].points.size(); ++q)
           {
-            const Point<dim> x = current[body].position(point);
+            const auto      &point = surfaces[body].points[q];
+            const Point<dim> x     = current[body].position(point);
             current[other].find_candidates(x, candidates);
             const Projection<dim> projection =
               project(current[other], x, candidates, r, dr);
@@ -599,18 +674,40 @@ namespace isoimpact
                                                               pressure,
                                                               *forces[body],
                                                               *forces[other]);
-            result.add_active_point(
-              {point.reference_position, 2. * pressure, gap, body},
-              0.5 * eps * gap * gap * point.weight,
-              sign_on_body_0 * force,
-              record_points);
+            point_pressure[body][q]    = 2. * pressure;
+            point_gap[body][q]         = gap;
+            result.add_active_point(2. * pressure,
+                                    gap,
+                                    0.5 * eps * gap * gap * point.weight,
+                                    sign_on_body_0 * force);
           }
       }
+    for (unsigned int body = 0; body < 2; ++body)
+      add_surface_pressure(surfaces[body].nodes,
+                           surfaces[body].points,
+                           point_pressure[body],
+                           point_gap[body],
+                           body,
+                           record_points,
+                           nodal_scratch,
+                           field_scratch,
+                           result);
     return result;
   }
 
   template struct ContactResult<2>;
+  template class SurfaceNodes<2>;
   template class SurfaceMassDensity<2>;
+  template void
+  add_surface_pressure(const SurfaceNodes<2> &,
+                       const std::vector<SurfaceQuadraturePoint<2>> &,
+                       const std::vector<double> &,
+                       const std::vector<double> &,
+                       const unsigned int,
+                       const bool,
+                       std::vector<double> &,
+                       std::vector<double> &,
+                       ContactResult<2> &);
   template Tensor<1, 2>
   point_velocity(const BoundarySegment<2> &,
                  const std::vector<double> &,

@@ -103,6 +103,9 @@ namespace isoimpact
                            "faces; check the boundary id declared as contact "
                            "surface"));
     points = surface_quadrature(segments, settings.n_quadrature_points);
+    nodes  = SurfaceNodes<dim>(segments, points);
+    point_pressure.resize(points.size());
+    point_gap.resize(points.size());
   }
 
   template <int dim>
@@ -118,7 +121,7 @@ namespace isoimpact
     const std::vector<const Vector<double> *> &nodal_masses)
   {
     AssertDimension(nodal_masses.size(), 1);
-    mass_density = SurfaceMassDensity<dim>(segments, *nodal_masses[0]);
+    mass_density = SurfaceMassDensity<dim>(nodes, *nodal_masses[0]);
   }
 
   template <int dim>
@@ -144,8 +147,11 @@ namespace isoimpact
                            "surface masses of the body"));
     const double       eps = settings.penalty;
     ContactResult<dim> result;
-    for (const auto &point : points)
+    std::fill(point_pressure.begin(), point_pressure.end(), 0.);
+    std::fill(point_gap.begin(), point_gap.end(), 0.);
+    for (unsigned int q = 0; q < points.size(); ++q)
       {
+        const auto      &point   = points[q];
         const auto      &segment = segments[point.segment];
         const Point<dim> x =
           current_position(segment, point, *displacements[0]);
@@ -171,11 +177,22 @@ namespace isoimpact
           }
         const Tensor<1, dim> force = pressure * point.weight * n;
         distribute_point_force(segment, point.shape_values, force, *forces[0]);
-        result.add_active_point({point.reference_position, pressure, g, 0},
+        point_pressure[q] = pressure;
+        point_gap[q]      = g;
+        result.add_active_point(pressure,
+                                g,
                                 0.5 * eps * g * g * point.weight,
-                                force,
-                                record_points);
+                                force);
       }
+    add_surface_pressure(nodes,
+                         points,
+                         point_pressure,
+                         point_gap,
+                         0,
+                         record_points,
+                         nodal_scratch,
+                         field_scratch,
+                         result);
     return result;
   }
 

@@ -145,7 +145,9 @@ namespace isoimpact
     out << "# isoimpact history of " << parameter_file << "\n"
         << "# units: time [s], contact_force [N/m] (resultant on body 1 "
            "along the line of impact, per unit thickness, full bodies), "
-           "max_contact_pressure [Pa], energies [J/m] (per unit "
+           "max_contact_pressure [Pa] (maximum of the consistent pressure "
+           "field), max_gauss_point_pressure [Pa] (maximum of the "
+           "pointwise penalty traction), energies [J/m] (per unit "
            "thickness, full bodies; contact_damping_work: the work the "
            "contact damping removed since t = 0, included in "
            "total_energy), analytic columns: quasi-static "
@@ -158,7 +160,8 @@ namespace isoimpact
       out << "# the model is a half by symmetry: contact_force and "
              "energies are those of the model times "
           << scene.symmetry_factor << "\n";
-    out << "time,contact_force,max_contact_pressure,kinetic_energy,"
+    out << "time,contact_force,max_contact_pressure,max_gauss_point_pressure,"
+           "kinetic_energy,"
            "strain_energy,contact_energy,contact_damping_work,total_energy";
     if (scene.reference)
       out << ",analytic_contact_force,analytic_max_contact_pressure";
@@ -171,13 +174,14 @@ namespace isoimpact
   HistoryWriter::write(const double         time,
                        const double         contact_force,
                        const double         max_pressure,
+                       const double         max_gauss_point_pressure,
                        const EnergyBalance &energy)
   {
     const double factor = scene.symmetry_factor;
     out << time << ',' << contact_force << ',' << max_pressure << ','
-        << factor * energy.kinetic << ',' << factor * energy.strain << ','
-        << factor * energy.contact << ',' << factor * energy.contact_damping
-        << ',' << factor * energy.total();
+        << max_gauss_point_pressure << ',' << factor * energy.kinetic << ','
+        << factor * energy.strain << ',' << factor * energy.contact << ','
+        << factor * energy.contact_damping << ',' << factor * energy.total();
     if (scene.reference)
       out << ',' << scene.reference->contact_force(time) << ','
           << scene.reference->max_contact_pressure(time);
@@ -206,8 +210,10 @@ namespace isoimpact
     std::ofstream out(name.str());
     out << "# contact pressure along the contact surface at t = " << time
         << " s\n# units: position [m] (reference position across the line "
-           "of impact), pressure [Pa]; surface: 1 or 2 (the body whose "
-           "Gauss point it is)\nposition,pressure,surface";
+           "of impact), pressure [Pa] (the consistent pressure field), "
+           "gauss_point_pressure [Pa] (the pointwise penalty traction); "
+           "surface: 1 or 2 (the body whose Gauss point it is)\n"
+           "position,pressure,gauss_point_pressure,surface";
     const double force = reference ? reference->contact_force(time) : 0.;
     if (reference)
       out << ",analytic_pressure";
@@ -215,7 +221,8 @@ namespace isoimpact
     for (const auto &point : points)
       {
         const double s = point.reference_position * across;
-        out << s << ',' << point.pressure << ',' << point.body + 1;
+        out << s << ',' << point.pressure << ',' << point.gauss_point_pressure
+            << ',' << point.body + 1;
         if (reference)
           out << ',' << reference->pressure(force, s);
         out << '\n';

@@ -48,14 +48,20 @@ namespace isoimpact
     double damping_ratio = 0.;
   };
 
-  // A Gauss point of a contact surface where the penalty is active.
+  // A Gauss point of a contact surface where the contact pressure is
+  // positive.
   template <int dim>
   struct ContactPoint
   {
     dealii::Point<dim> reference_position; // of the Gauss point
-    double             pressure;           // eps_N,effective * |g_N|, Pa
-    double             gap;                // g_N, m (negative)
-    unsigned int       body; // whose Gauss point: 0 or 1, the model's order
+    // The consistent pressure there (the surface's pressure field, see
+    // SurfaceNodes::project_pressure), Pa.
+    double pressure;
+    // The pointwise value of the penalty traction at the Gauss point, Pa
+    // (eps_N,effective |g_N| undamped; 0 where the point is not active).
+    double       gauss_point_pressure;
+    double       gap;  // g_N, m (negative if active)
+    unsigned int body; // whose Gauss point: 0 or 1, the model's order
   };
 
   // What a contact model reports for one evaluation. Bodies are numbered in
@@ -65,21 +71,24 @@ namespace isoimpact
   {
     double energy = 0.; // J/m (per unit thickness)
     // Power removed by the contact damping, W/m (>= 0).
-    double                         damping_power   = 0.;
-    double                         max_pressure    = 0.; // Pa
-    double                         max_penetration = 0.; // m, -min g_N
-    dealii::Tensor<1, dim>         force_on_body_0;      // N/m, resultant
+    double damping_power = 0.;
+    // Maximum of the consistent pressure field over the surfaces' Gauss
+    // points, Pa.
+    double max_pressure = 0.;
+    // Maximum of the pointwise penalty traction over the Gauss points, Pa.
+    double                         max_gauss_point_pressure = 0.;
+    double                         max_penetration          = 0.; // m, -min g_N
+    dealii::Tensor<1, dim>         force_on_body_0; // N/m, resultant
     unsigned int                   n_active_points = 0;
     std::vector<ContactPoint<dim>> points;
 
     // Counts an active Gauss point: adds its penalty energy and its force on
-    // body 0, updates the maximum pressure and keeps `point` if
-    // `record_point`.
+    // body 0, updates the maximal Gauss-point pressure and penetration.
     void
-    add_active_point(const ContactPoint<dim>      &point,
+    add_active_point(const double                  gauss_point_pressure,
+                     const double                  gap,
                      const double                  point_energy,
-                     const dealii::Tensor<1, dim> &point_force_on_body_0,
-                     const bool                    record_point);
+                     const dealii::Tensor<1, dim> &point_force_on_body_0);
   };
 
   /**
@@ -142,11 +151,51 @@ namespace isoimpact
   };
 
   /**
+   * The nodes of a contact surface (shared by neighbouring segments) and
+   * the lumped surface mass a_k = int R_k ds of each (m per unit thickness),
+   * integrated with the surface's Gauss points.
+   */
+  template <int dim>
+  class SurfaceNodes
+  {
+  public:
+    SurfaceNodes() = default;
+    SurfaceNodes(const std::vector<BoundarySegment<dim>>        &segments,
+                 const std::vector<SurfaceQuadraturePoint<dim>> &points);
+
+    /**
+     * The consistent contact pressure: the L2 projection of the pressure
+     * p_q at the Gauss points onto the surface trace of the
+     * discretisation, with the lumped surface mass, p_k = sum_q p_q w_q
+     * R_k(q) / a_k, evaluated at the Gauss points, field_q = sum_k R_k(q)
+     * p_k. Lumped because it needs no solve and, with the non-negative
+     * NURBS functions, keeps p_k >= 0 and does not overshoot at the edge of
+     * the contact zone, where the pressure has a square-root profile (the
+     * consistent surface mass oscillates there); a uniform pressure is
+     * reproduced exactly. The quadratic Lagrange functions are negative in
+     * parts of a face: their projection may exceed the largest point value
+     * by a few per cent on coarse faces (tests/symmetric_contact.cc).
+     * `nodal` is scratch.
+     */
+    void
+    project_pressure(const std::vector<SurfaceQuadraturePoint<dim>> &points,
+                     const std::vector<double> &point_pressure,
+                     std::vector<double>       &nodal,
+                     std::vector<double>       &field) const;
+
+    // [segment][k]: the surface node of node k of the segment.
+    std::vector<std::vector<unsigned int>> node_of_segment;
+    // Per surface node: its x unknown and a_k.
+    std::vector<dealii::types::global_dof_index> x_dof;
+    std::vector<double>                          area;
+  };
+
+  /**
    * Mass per unit reference length of a contact surface (kg/m^2 per unit
    * thickness), from the lumped nodal masses m_k of its body: mu_k = m_k /
-   * int N_k ds at each surface node k, interpolated with the nodal
-   * functions. It sets the critical damping 2 sqrt(eps mu) of a penalty
-   * spring eps on the surface.
+   * a_k at each surface node k, interpolated with the nodal functions. It
+   * sets the critical damping 2 sqrt(eps mu) of a penalty spring eps on the
+   * surface.
    */
   template <int dim>
   class SurfaceMassDensity
@@ -154,8 +203,8 @@ namespace isoimpact
   public:
     SurfaceMassDensity() = default;
     // `nodal_masses` per unknown (the x component is read).
-    SurfaceMassDensity(const std::vector<BoundarySegment<dim>> &segments,
-                       const dealii::Vector<double>            &nodal_masses);
+    SurfaceMassDensity(const SurfaceNodes<dim>      &nodes,
+                       const dealii::Vector<double> &nodal_masses);
 
     bool
     empty() const;
@@ -169,6 +218,24 @@ namespace isoimpact
   private:
     std::vector<std::vector<double>> node_densities; // [segment][node]
   };
+
+  /**
+   * Adds the consistent pressure of one surface (body `body` of the model)
+   * to `result`: projects the Gauss-point pressures, updates max_pressure
+   * and, with `record_points`, records every Gauss point where either
+   * pressure is positive. `nodal` and `field` are scratch.
+   */
+  template <int dim>
+  void
+  add_surface_pressure(const SurfaceNodes<dim>                        &nodes,
+                       const std::vector<SurfaceQuadraturePoint<dim>> &points,
+                       const std::vector<double> &point_pressure,
+                       const std::vector<double> &point_gap,
+                       const unsigned int         body,
+                       const bool                 record_points,
+                       std::vector<double>       &nodal,
+                       std::vector<double>       &field,
+                       ContactResult<dim>        &result);
 
   /**
    * Velocity sum_k R_k v_k of a point of `segment` where its nodal functions
@@ -286,8 +353,12 @@ namespace isoimpact
       std::vector<BoundarySegment<dim>>        segments;
       std::vector<double>                      reference_lengths;
       std::vector<SurfaceQuadraturePoint<dim>> points;
+      SurfaceNodes<dim>                        nodes;
       SurfaceMassDensity<dim>                  mass_density;
     };
+    // Scratch of evaluate(): per surface, the Gauss-point pressure and gap.
+    mutable std::array<std::vector<double>, 2> point_pressure, point_gap;
+    mutable std::vector<double>                nodal_scratch, field_scratch;
 
     ContactSettings        settings;
     std::array<Surface, 2> surfaces;

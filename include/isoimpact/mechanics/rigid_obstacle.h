@@ -87,8 +87,8 @@ namespace isoimpact
    * Penalty contact of one body's contact boundary against a rigid obstacle.
    * A ContactModel with n_bodies() = 1: the resultant reported
    * (force_on_body_0) is the force of the obstacle on the body; the
-   * pressure eps |g|, the energy int eps/2 g^2 ds_ref; recorded points have
-   * body 0.
+   * Gauss-point pressure eps |g| (less the damping), the energy int eps/2 g^2
+   * ds_ref; recorded points have body 0.
    */
   template <int dim>
   class RigidObstacleContact : public ContactModel<dim>
@@ -135,7 +135,11 @@ namespace isoimpact
     RigidObstacle<dim>                       rigid_obstacle;
     std::vector<BoundarySegment<dim>>        segments;
     std::vector<SurfaceQuadraturePoint<dim>> points;
+    SurfaceNodes<dim>                        nodes;
     SurfaceMassDensity<dim>                  mass_density;
+    // Scratch of evaluate().
+    mutable std::vector<double> point_pressure, point_gap, nodal_scratch,
+      field_scratch;
   };
 } // namespace isoimpact
 

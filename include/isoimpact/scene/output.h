@@ -54,6 +54,7 @@ namespace isoimpact
     write(const double         time,
           const double         contact_force,
           const double         max_pressure,
+          const double         max_gauss_point_pressure,
           const EnergyBalance &energy);
 
   private:
