@@ -131,3 +131,11 @@ add_test(NAME layering
 add_test(NAME layering_check_can_fail
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/check_layering.py --self-test
     ${CMAKE_SOURCE_DIR})
+
+# The contact damping remedy (issue 11) on the coarse meshes: chatter,
+# consistent pressure, energy balance with the damping's work, stable step.
+add_test(NAME contact_damping
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/contact_damping.py
+    $<TARGET_FILE:isoimpact_program> ${CMAKE_CURRENT_SOURCE_DIR}/prm
+    ${_work}/contact_damping)
+set_tests_properties(contact_damping PROPERTIES TIMEOUT 900)
