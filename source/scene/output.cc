@@ -5,9 +5,13 @@
 #include <isoimpact/scene/output.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 
 using namespace dealii;
 
@@ -72,6 +76,34 @@ namespace isoimpact
     };
   } // namespace
 
+
+
+  void
+  close_and_check(std::ofstream &out, const std::string &path)
+  {
+    out.close();
+    if (out.fail())
+      throw std::runtime_error("writing '" + path + "' failed: " +
+                               std::strerror(errno) + " (is the disk full?)");
+  }
+
+
+
+  void
+  write_by_rename(const std::string                         &path,
+                  const std::function<void(std::ostream &)> &writer)
+  {
+    const std::string temporary = path + ".tmp";
+    {
+      std::ofstream out(temporary);
+      writer(out);
+      close_and_check(out, temporary);
+    }
+    std::filesystem::rename(temporary, path);
+  }
+
+
+
   SolutionWriter::SolutionWriter(const std::string &directory,
                                  const unsigned int n_subdivisions)
     : directory(directory)
@@ -119,17 +151,22 @@ namespace isoimpact
         const std::string piece = body->name() + "_" + number + ".vtu";
         std::ofstream     out(directory + "/" + piece);
         data_out.write_vtu(out);
+        close_and_check(out, directory + "/" + piece);
         pieces.push_back(piece);
         if (body == bodies.back())
           {
             const std::string pvtu = "solution_" + number + ".pvtu";
             std::ofstream     record(directory + "/" + pvtu);
             data_out.write_pvtu_record(record, pieces);
+            close_and_check(record, directory + "/" + pvtu);
             times_and_names.emplace_back(time, pvtu);
           }
       }
-    std::ofstream pvd(directory + "/solution.pvd");
-    DataOutBase::write_pvd_record(pvd, times_and_names);
+    // Rewritten at every output: by rename, so that a stop leaves the
+    // previous complete record.
+    write_by_rename(directory + "/solution.pvd", [&](std::ostream &pvd) {
+      DataOutBase::write_pvd_record(pvd, times_and_names);
+    });
     return times_and_names.back().second;
   }
 
@@ -140,6 +177,7 @@ namespace isoimpact
                                const Parameters  &parameters,
                                const Scene       &scene)
     : scene(scene)
+    , path(path)
     , out(path)
   {
     out << "# isoimpact history of " << parameter_file << "\n"
@@ -160,7 +198,34 @@ namespace isoimpact
            "strain_energy,contact_energy,total_energy";
     if (scene.reference)
       out << ",analytic_contact_force,analytic_max_contact_pressure";
-    out << '\n' << std::setprecision(10);
+    out << '\n';
+    rows << std::setprecision(10);
+    flush();
+  }
+
+
+
+  HistoryWriter::~HistoryWriter()
+  {
+    try
+      {
+        flush();
+      }
+    catch (...)
+      {}
+  }
+
+
+
+  void
+  HistoryWriter::flush()
+  {
+    out << rows.str();
+    out.flush();
+    rows.str("");
+    if (!out)
+      throw std::runtime_error("writing '" + path + "' failed: " +
+                               std::strerror(errno) + " (is the disk full?)");
   }
 
 
@@ -172,13 +237,16 @@ namespace isoimpact
                        const EnergyBalance &energy)
   {
     const double factor = scene.symmetry_factor;
-    out << time << ',' << contact_force << ',' << max_pressure << ','
-        << factor * energy.kinetic << ',' << factor * energy.strain << ','
-        << factor * energy.contact << ',' << factor * energy.total();
+    rows << time << ',' << contact_force << ',' << max_pressure << ','
+         << factor * energy.kinetic << ',' << factor * energy.strain << ','
+         << factor * energy.contact << ',' << factor * energy.total();
     if (scene.reference)
-      out << ',' << scene.reference->contact_force(time) << ','
-          << scene.reference->max_contact_pressure(time);
-    out << '\n';
+      rows << ',' << scene.reference->contact_force(time) << ','
+           << scene.reference->max_contact_pressure(time);
+    rows << '\n';
+    // Whole rows only reach the file: a killed run leaves complete ones.
+    if (rows.tellp() > (1 << 16))
+      flush();
   }
 
 
@@ -217,5 +285,6 @@ namespace isoimpact
           out << ',' << reference->pressure(force, s);
         out << '\n';
       }
+    close_and_check(out, name.str());
   }
 } // namespace isoimpact
