@@ -147,6 +147,11 @@ namespace isoimpact
             << " cells, " << body->n_dofs() << " unknowns, mass "
             << body->total_mass() << " kg/m (" << to_string(body->mass_scheme())
             << ")\n";
+    const auto [memory, cells] = estimated_memory_and_cells(parameters);
+    pcout << "  estimated memory " << std::setprecision(3) << memory / 1e9
+          << " GB for about " << std::llround(cells)
+          << " cells (checked against the available memory)\n"
+          << std::setprecision(6);
     pcout << "  contact: " << scene.contacts[0]->description() << '\n';
     if (parameters.obstacle.active())
       pcout << "  scene reduction: Body 1 against a rigid obstacle; Body 2 "

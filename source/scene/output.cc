@@ -83,8 +83,13 @@ namespace isoimpact
   {
     out.close();
     if (out.fail())
-      throw std::runtime_error("writing '" + path + "' failed: " +
-                               std::strerror(errno) + " (is the disk full?)");
+      {
+        const std::string reason = std::strerror(errno);
+        std::error_code   ignored; // a half-written file is not left
+        std::filesystem::remove(path, ignored);
+        throw std::runtime_error("writing '" + path + "' failed: " + reason +
+                                 " (is the disk full?)");
+      }
   }
 
 
@@ -150,14 +155,28 @@ namespace isoimpact
 
         const std::string piece = body->name() + "_" + number + ".vtu";
         std::ofstream     out(directory + "/" + piece);
-        data_out.write_vtu(out);
+        try
+          {
+            data_out.write_vtu(out);
+          }
+        catch (const ExceptionBase &)
+          {
+            out.setstate(std::ios::badbit); // reported by close_and_check
+          }
         close_and_check(out, directory + "/" + piece);
         pieces.push_back(piece);
         if (body == bodies.back())
           {
             const std::string pvtu = "solution_" + number + ".pvtu";
             std::ofstream     record(directory + "/" + pvtu);
-            data_out.write_pvtu_record(record, pieces);
+            try
+              {
+                data_out.write_pvtu_record(record, pieces);
+              }
+            catch (const ExceptionBase &)
+              {
+                record.setstate(std::ios::badbit);
+              }
             close_and_check(record, directory + "/" + pvtu);
             times_and_names.emplace_back(time, pvtu);
           }
@@ -165,7 +184,14 @@ namespace isoimpact
     // Rewritten at every output: by rename, so that a stop leaves the
     // previous complete record.
     write_by_rename(directory + "/solution.pvd", [&](std::ostream &pvd) {
-      DataOutBase::write_pvd_record(pvd, times_and_names);
+      try
+        {
+          DataOutBase::write_pvd_record(pvd, times_and_names);
+        }
+      catch (const ExceptionBase &)
+        {
+          pvd.setstate(std::ios::badbit);
+        }
     });
     return times_and_names.back().second;
   }
@@ -224,8 +250,15 @@ namespace isoimpact
     out.flush();
     rows.str("");
     if (!out)
-      throw std::runtime_error("writing '" + path + "' failed: " +
-                               std::strerror(errno) + " (is the disk full?)");
+      {
+        // Cut back to the last complete row: the file stays readable.
+        const std::string reason = std::strerror(errno);
+        std::error_code   ignored;
+        std::filesystem::resize_file(path, written, ignored);
+        throw std::runtime_error("writing '" + path + "' failed: " + reason +
+                                 " (is the disk full?)");
+      }
+    written = out.tellp();
   }
 
 

@@ -9,6 +9,7 @@
 #include <isoimpact/scene/parameters.h>
 #include <isoimpact/scene/scene.h>
 
+#include <cstdint>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -81,6 +82,7 @@ namespace isoimpact
     const std::string  path;
     std::ofstream      out;
     std::ostringstream rows;
+    std::uintmax_t     written = 0; // bytes of complete rows in the file
   };
 
   /**
