@@ -709,6 +709,8 @@ namespace isoimpact
               "(" + point_string(point) + ")",
               allowed.str());
     };
+    // Coordinates are checked last, once the sizes are known to be sound.
+    std::vector<std::pair<Point<2>, std::string>> points;
     for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
       {
         const auto       &body = parameters.bodies[b];
@@ -727,13 +729,15 @@ namespace isoimpact
                    1e9,
                    s + "Upper right corner (the longer side)",
                    "m");
-            near_origin(body.geometry.lower_left, s + "Lower left corner");
-            near_origin(body.geometry.upper_right, s + "Upper right corner");
+            points.emplace_back(body.geometry.lower_left,
+                                s + "Lower left corner");
+            points.emplace_back(body.geometry.upper_right,
+                                s + "Upper right corner");
           }
         else
           {
             within(body.geometry.radius, 1e-9, 1e9, s + "Radius", "m");
-            near_origin(body.geometry.center, s + "Center");
+            points.emplace_back(body.geometry.center, s + "Center");
           }
         within(body.material.youngs_modulus,
                1e-6,
@@ -752,8 +756,8 @@ namespace isoimpact
       }
     if (parameters.bodies[0].geometry.local_refinements > 0)
       {
-        near_origin(parameters.bodies[0].geometry.refinement_center,
-                    "Discretization/Refinement center");
+        points.emplace_back(parameters.bodies[0].geometry.refinement_center,
+                            "Discretization/Refinement center");
         within(parameters.bodies[0].geometry.refinement_radius,
                1e-9,
                1e9,
@@ -769,13 +773,16 @@ namespace isoimpact
         if (obstacle.type == "cylinder")
           {
             within(obstacle.radius, 1e-9, 1e9, "Obstacle/Radius", "m");
-            near_origin(obstacle.center, "Obstacle/Center");
+            points.emplace_back(obstacle.center, "Obstacle/Center");
           }
         else
-          near_origin(obstacle.point, "Obstacle/Point");
+          points.emplace_back(obstacle.point, "Obstacle/Point");
         if (obstacle.type == "channel")
-          near_origin(obstacle.opposite_point, "Obstacle/Opposite point");
+          points.emplace_back(obstacle.opposite_point,
+                              "Obstacle/Opposite point");
       }
+    for (const auto &[point, parameter] : points)
+      near_origin(point, parameter);
     return parameters;
   }
 

@@ -167,6 +167,19 @@ namespace isoimpact
         approach_law_names.from_string(parameters.approach_law));
     }
 
+    // The deepest of the points by the given depth: (depth, point).
+    template <typename Depth>
+    std::pair<double, Point<2>>
+    deepest(const std::vector<Point<2>> &points, const Depth &depth)
+    {
+      std::pair<double, Point<2>> result(-std::numeric_limits<double>::max(),
+                                         Point<2>());
+      for (const auto &p : points)
+        if (const double d = depth(p); d > result.first)
+          result = {d, p};
+      return result;
+    }
+
     // The bodies overlap, or Body 1 and the obstacle.
     void
     check_start_positions(const Parameters &parameters, const std::string &file)
@@ -179,18 +192,20 @@ namespace isoimpact
           for (unsigned int a = 0; a < 2; ++a)
             {
               const auto &other = parameters.bodies[1 - a].geometry;
-              for (const auto &p :
-                   boundary_points(parameters.bodies[a].geometry))
-                if (const double depth = depth_inside(other, p);
-                    depth > tolerance)
-                  refuse(file,
-                         "Body 1 and Body 2 overlap at t = 0: the point " +
-                           text(p) + " of " + body_names[a] +
-                           "'s boundary lies " + text(depth) + " m inside " +
-                           body_names[1 - a] + " (" + placement(parameters, 0) +
-                           "; " + placement(parameters, 1) +
-                           "). The bodies may touch but not overlap " +
-                           allowed + ": move them apart");
+              const auto [depth, p] =
+                deepest(boundary_points(parameters.bodies[a].geometry),
+                        [&](const Point<2> &q) {
+                          return depth_inside(other, q);
+                        });
+              if (depth > tolerance)
+                refuse(file,
+                       "Body 1 and Body 2 overlap at t = 0: the point " +
+                         text(p) + " of " + body_names[a] +
+                         "'s boundary lies " + text(depth) + " m inside " +
+                         body_names[1 - a] + " (" + placement(parameters, 0) +
+                         "; " + placement(parameters, 1) +
+                         "). The bodies may touch but not overlap " + allowed +
+                         ": move them apart");
             }
           return;
         }
@@ -208,16 +223,16 @@ namespace isoimpact
                    cylinder + " has its centre " + text(depth) +
                      " m inside Body 1 (" + placement(parameters, 0) +
                      "): the obstacle must lie outside the body");
-          for (const auto &p : points)
-            if (const double depth =
-                  obstacle.radius - p.distance(obstacle.center);
-                depth > tolerance)
-              refuse(file,
-                     "Body 1 starts inside " + cylinder + ": its point " +
-                       text(p) + " lies " + text(depth) + " m inside (" +
-                       placement(parameters, 0) +
-                       "). Body 1 may touch the obstacle but not overlap " +
-                       "it " + allowed + ": move it out");
+          const auto [depth, p] = deepest(points, [&](const Point<2> &q) {
+            return obstacle.radius - q.distance(obstacle.center);
+          });
+          if (depth > tolerance)
+            refuse(file,
+                   "Body 1 starts inside " + cylinder + ": its point " +
+                     text(p) + " lies " + text(depth) + " m inside (" +
+                     placement(parameters, 0) +
+                     "). Body 1 may touch the obstacle but not overlap " +
+                     "it " + allowed + ": move it out");
           return;
         }
       const Tensor<1, 2> normal = obstacle.normal / obstacle.normal.norm();
@@ -233,8 +248,11 @@ namespace isoimpact
                            "'Obstacle/Opposite point' = " +
                              text(obstacle.opposite_point));
       for (const auto &[point, n, name] : walls)
-        for (const auto &p : points)
-          if (const double depth = -((p - point) * n); depth > tolerance)
+        {
+          const auto [depth, p] = deepest(points, [&](const Point<2> &q) {
+            return -((q - point) * n);
+          });
+          if (depth > tolerance)
             refuse(file,
                    "Body 1 starts inside " + name + ": its point " + text(p) +
                      " lies " + text(depth) + " m behind the plane (" +
@@ -243,6 +261,7 @@ namespace isoimpact
                      "away from. Body 1 may touch the plane but not cross "
                      "it " +
                      allowed + ": move it to the other side");
+        }
     }
 
     // With an analytic reference: the scene it describes.
