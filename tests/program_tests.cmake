@@ -131,3 +131,10 @@ add_test(NAME layering
 add_test(NAME layering_check_can_fail
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/check_layering.py --self-test
     ${CMAKE_SOURCE_DIR})
+
+# Output that survives a stop, a full disk and a rerun (issue 10).
+add_test(NAME output_robustness
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/output_robustness.py
+    $<TARGET_FILE:isoimpact_program>
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm ${_work}/output_robustness)
+set_tests_properties(output_robustness PROPERTIES TIMEOUT 300)

@@ -79,7 +79,9 @@ namespace isoimpact
 
 
   void
-  close_and_check(std::ofstream &out, const std::string &path)
+  close_and_check(std::ofstream     &out,
+                  const std::string &path,
+                  const std::string &name)
   {
     out.close();
     if (out.fail())
@@ -87,7 +89,8 @@ namespace isoimpact
         const std::string reason = std::strerror(errno);
         std::error_code   ignored; // a half-written file is not left
         std::filesystem::remove(path, ignored);
-        throw std::runtime_error("writing '" + path + "' failed: " + reason +
+        throw std::runtime_error("writing '" + (name.empty() ? path : name) +
+                                 "' failed: " + reason +
                                  " (is the disk full?)");
       }
   }
@@ -102,7 +105,7 @@ namespace isoimpact
     {
       std::ofstream out(temporary);
       writer(out);
-      close_and_check(out, temporary);
+      close_and_check(out, temporary, path);
     }
     std::filesystem::rename(temporary, path);
   }
@@ -154,30 +157,32 @@ namespace isoimpact
         data_out.set_flags(flags);
 
         const std::string piece = body->name() + "_" + number + ".vtu";
-        std::ofstream     out(directory + "/" + piece);
-        try
-          {
-            data_out.write_vtu(out);
-          }
-        catch (const ExceptionBase &)
-          {
-            out.setstate(std::ios::badbit); // reported by close_and_check
-          }
-        close_and_check(out, directory + "/" + piece);
+        // Every file by rename: a stopped run leaves complete files (and
+        // at most one .tmp).
+        write_by_rename(directory + "/" + piece, [&](std::ostream &out) {
+          try
+            {
+              data_out.write_vtu(out);
+            }
+          catch (const ExceptionBase &)
+            {
+              out.setstate(std::ios::badbit); // reported by close_and_check
+            }
+        });
         pieces.push_back(piece);
         if (body == bodies.back())
           {
             const std::string pvtu = "solution_" + number + ".pvtu";
-            std::ofstream     record(directory + "/" + pvtu);
-            try
-              {
-                data_out.write_pvtu_record(record, pieces);
-              }
-            catch (const ExceptionBase &)
-              {
-                record.setstate(std::ios::badbit);
-              }
-            close_and_check(record, directory + "/" + pvtu);
+            write_by_rename(directory + "/" + pvtu, [&](std::ostream &record) {
+              try
+                {
+                  data_out.write_pvtu_record(record, pieces);
+                }
+              catch (const ExceptionBase &)
+                {
+                  record.setstate(std::ios::badbit);
+                }
+            });
             times_and_names.emplace_back(time, pvtu);
           }
       }
@@ -301,23 +306,23 @@ namespace isoimpact
     std::ostringstream name;
     name << directory << "/contact_pressure_t" << std::fixed
          << std::setprecision(4) << time << ".csv";
-    std::ofstream out(name.str());
-    out << "# contact pressure along the contact surface at t = " << time
-        << " s\n# units: position [m] (reference position across the line "
-           "of impact), pressure [Pa]; surface: 1 or 2 (the body whose "
-           "Gauss point it is)\nposition,pressure,surface";
-    const double force = reference ? reference->contact_force(time) : 0.;
-    if (reference)
-      out << ",analytic_pressure";
-    out << '\n' << std::setprecision(10);
-    for (const auto &point : points)
-      {
-        const double s = point.reference_position * across;
-        out << s << ',' << point.pressure << ',' << point.body + 1;
-        if (reference)
-          out << ',' << reference->pressure(force, s);
-        out << '\n';
-      }
-    close_and_check(out, name.str());
+    write_by_rename(name.str(), [&](std::ostream &out) {
+      out << "# contact pressure along the contact surface at t = " << time
+          << " s\n# units: position [m] (reference position across the line "
+             "of impact), pressure [Pa]; surface: 1 or 2 (the body whose "
+             "Gauss point it is)\nposition,pressure,surface";
+      const double force = reference ? reference->contact_force(time) : 0.;
+      if (reference)
+        out << ",analytic_pressure";
+      out << '\n' << std::setprecision(10);
+      for (const auto &point : points)
+        {
+          const double s = point.reference_position * across;
+          out << s << ',' << point.pressure << ',' << point.body + 1;
+          if (reference)
+            out << ',' << reference->pressure(force, s);
+          out << '\n';
+        }
+    });
   }
 } // namespace isoimpact

@@ -19,10 +19,12 @@
 
 namespace isoimpact
 {
-  // Closes a written file; throws std::runtime_error naming it if any
-  // write failed (a full disk).
+  // Closes a written file; if any write failed (a full disk) removes it and
+  // throws std::runtime_error naming it (or `name`, if given).
   void
-  close_and_check(std::ofstream &out, const std::string &path);
+  close_and_check(std::ofstream     &out,
+                  const std::string &path,
+                  const std::string &name = "");
 
   // Writes a file under path.tmp and renames it to path, so that the file
   // is always either the old or the new complete one.
