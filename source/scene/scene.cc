@@ -343,6 +343,16 @@ namespace isoimpact
                      "; 'Obstacle/Point' = " + text(obstacle.point) +
                      ", 'Obstacle/Normal' = " + text(obstacle.normal) +
                      "): move it into contact" + way_out);
+          const Point<2> first = body.center - body.radius * normal;
+          if (body.shape == BodyGeometry::Shape::half_disk &&
+              first[0] < body.center[0] - tolerance)
+            refuse(file,
+                   reference +
+                     "of Body 1 touching the plane with its arc, but "
+                     "the point of the full disk nearest the plane, " +
+                     text(first) + ", is not on the half disk's arc (" +
+                     placement(parameters, 0) + "; 'Obstacle/Normal' = " +
+                     text(obstacle.normal) + ")" + way_out);
         }
       try
         {
@@ -637,6 +647,11 @@ namespace isoimpact
     TimeSteps result;
     result.n_steps   = std::max<std::uint64_t>(1, steps);
     result.time_step = parameters.end_time / result.n_steps;
+    // An end time that is a multiple of the step up to round-off keeps the
+    // step as selected (bit for bit).
+    if (std::abs(result.time_step - selected_time_step) <=
+        1e-12 * selected_time_step)
+      result.time_step = selected_time_step;
     return result;
   }
 

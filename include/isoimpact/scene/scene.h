@@ -71,7 +71,8 @@ namespace isoimpact
   constexpr double max_time_steps = 1e8;
 
   // The steps of a run and the step that ends them exactly at End time: the
-  // selected step is shortened to End time / n, n = ceil(End time / step).
+  // selected step is shortened to End time / n, n = ceil(End time / step)
+  // (kept as it is if that differs from it by round-off only).
   struct TimeSteps
   {
     std::uint64_t n_steps;
