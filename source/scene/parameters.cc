@@ -781,6 +781,13 @@ namespace isoimpact
           points.emplace_back(obstacle.opposite_point,
                               "Obstacle/Opposite point");
       }
+    // A moving average far longer than the run means nothing (and its width
+    // in steps must stay countable).
+    require(parameters.filter_window <= 10. * parameters.end_time,
+            "Output/Filter window",
+            parameters.filter_window,
+            "it must not exceed 10 times the end time (" +
+              std::to_string(10. * parameters.end_time) + " s)");
     for (const auto &[point, parameter] : points)
       near_origin(point, parameter);
     return parameters;

@@ -145,7 +145,9 @@ cases.update({
     "refinement_center_1e10": ({"Discretization/Local refinements": "1",
                                 "Discretization/Refinement center": "1e10, 0"},
                                ["Discretization/Refinement center", "(1e+10, 0)", "origin"]),
-    "obstacle_point_1e10": ({**plane, "Obstacle/Point": "0, 1e10"},
+    "filter_window_1e300": ({"Output/Filter window": "1e300"},
+                            ["Output/Filter window", "1e+300", "10 times the end time"]),
+        "obstacle_point_1e10": ({**plane, "Obstacle/Point": "0, 1e10"},
                             ["Obstacle/Point", "(0, 1e+10)", "origin"]),
 })
 # Scenes the patterns cannot see: overlaps, a body inside an obstacle, a
