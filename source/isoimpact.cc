@@ -58,9 +58,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <regex>
 #include <sstream>
 
 using namespace dealii;
@@ -110,9 +112,10 @@ namespace isoimpact
     std::unique_ptr<StabilityMonitor<2>>  monitor;
     std::unique_ptr<RunSummary>           summary;
     StableTimeStep                        stable;
-    double                                time_step    = 0.;
-    unsigned int                          n_steps      = 0;
-    unsigned int                          next_profile = 0;
+    double                                time_step          = 0.;
+    double                                selected_time_step = 0.;
+    std::uint64_t                         n_steps            = 0;
+    unsigned int                          next_profile       = 0;
     Timer                                 wall_clock;
   };
 
@@ -144,6 +147,11 @@ namespace isoimpact
             << " cells, " << body->n_dofs() << " unknowns, mass "
             << body->total_mass() << " kg/m (" << to_string(body->mass_scheme())
             << ")\n";
+    const auto [memory, cells] = estimated_memory_and_cells(parameters);
+    pcout << "  estimated memory " << std::setprecision(3) << memory / 1e9
+          << " GB for about " << std::llround(cells)
+          << " cells (checked against the available memory)\n"
+          << std::setprecision(6);
     pcout << "  contact: " << scene.contacts[0]->description() << '\n';
     if (parameters.obstacle.active())
       pcout << "  scene reduction: Body 1 against a rigid obstacle; Body 2 "
@@ -182,8 +190,11 @@ namespace isoimpact
                    "(Discretization/Global or Local refinements)";
         pcout << '\n';
       }
-    pcout << "  " << n_steps << " steps to t = " << parameters.end_time
-          << " s; output in " << parameters.output_directory << std::endl;
+    pcout << "  " << n_steps << " steps to t = " << parameters.end_time << " s";
+    if (time_step != selected_time_step)
+      pcout << " (the step " << selected_time_step
+            << " s shortened so that the last step ends at the end time)";
+    pcout << "; output in " << parameters.output_directory << std::endl;
   }
 
 
@@ -191,13 +202,27 @@ namespace isoimpact
   // @sect3{Output files}
   //
   // The output directory is created only once the scene is built, so that a
-  // bad parameter file leaves nothing behind. history.csv gets one row per
-  // output step; its header says the unit of every column.
+  // bad parameter file leaves nothing behind. The files an earlier run wrote
+  // there (the names this program writes, nothing else) are removed first,
+  // so that none of them is mixed with the new ones. history.csv gets one
+  // row per output step; its header says the unit of every column.
   void
   ImpactProgram::open_output()
   {
     const std::string &directory = parameters.output_directory;
     std::filesystem::create_directories(directory);
+    const std::regex owned(
+      "(parameters\\.prm|history\\.csv|summary\\.json|solution\\.pvd|"
+      "solution_[0-9]+\\.pvtu|body[0-9]+_[0-9]+\\.vtu|"
+      "contact_pressure_t[0-9.]+\\.csv)(\\.tmp)?");
+    unsigned int n_removed = 0;
+    for (const auto &entry : std::filesystem::directory_iterator(directory))
+      if (entry.is_regular_file() &&
+          std::regex_match(entry.path().filename().string(), owned))
+        n_removed += std::filesystem::remove(entry.path());
+    if (n_removed > 0)
+      pcout << "  removed " << n_removed << " files of an earlier run from "
+            << directory << std::endl;
     std::filesystem::copy_file(
       parameter_file,
       directory + "/parameters.prm",
@@ -317,6 +342,7 @@ namespace isoimpact
   {
     const double elapsed = wall_clock.wall_time();
     const double done    = double(integrator->step_number()) / n_steps;
+    history->flush(); // whole rows, so that a stopped run leaves them
     pcout << "  step " << std::setw(6) << integrator->step_number() << "/"
           << n_steps << "  t = " << std::fixed << std::setprecision(4)
           << integrator->time() << " s  contact force = " << std::setw(9)
@@ -343,13 +369,18 @@ namespace isoimpact
   {
     {
       TimerOutput::Scope scope(timer, "set-up: meshes, matrices, contact");
-      scene     = build_scene(parameters);
-      stable    = scene_stable_time_step(scene.body_pointers(),
+      check_scene(parameters, parameter_file);
+      scene              = build_scene(parameters);
+      stable             = scene_stable_time_step(scene.body_pointers(),
                                       scene.interactions,
                                       parameters.contact_activation_margin);
-      time_step = select_time_step(parameters, stable, parameter_file);
-      n_steps   = static_cast<unsigned int>(
-        std::ceil(parameters.end_time / time_step - 1e-9));
+      selected_time_step = select_time_step(parameters, stable, parameter_file);
+      // The last step lands on the end time: the step is shortened to
+      // End time / n (at most by a factor (n - 1) / n).
+      const TimeSteps steps =
+        time_steps_to_end(parameters, selected_time_step, parameter_file);
+      n_steps   = steps.n_steps;
+      time_step = steps.time_step;
       summary =
         std::make_unique<RunSummary>(time_step, parameters.filter_window);
       integrator = std::make_unique<CentralDifference<2>>(scene.body_pointers(),
@@ -360,7 +391,7 @@ namespace isoimpact
     open_output();
 
     wall_clock.restart();
-    const auto is_vtu_step = [&](const unsigned int step) {
+    const auto is_vtu_step = [&](const std::uint64_t step) {
       return parameters.vtu_interval > 0 &&
              (step % parameters.vtu_interval == 0 || step == n_steps);
     };
@@ -378,12 +409,10 @@ namespace isoimpact
     limits.maximum_penetration =
       parameters.maximum_penetration * parameters.smallest_body_size();
     monitor = std::make_unique<StabilityMonitor<2>>(*integrator, limits);
-    std::string        failure = record(is_vtu_step(0), false);
-    const unsigned int progress_every =
-      std::max(1u,
-               static_cast<unsigned int>(n_steps *
-                                         parameters.progress_interval / 100.));
-    for (unsigned int step = 1; step <= n_steps && failure.empty(); ++step)
+    std::string         failure = record(is_vtu_step(0), false);
+    const std::uint64_t progress_every =
+      std::max<std::uint64_t>(1, n_steps * parameters.progress_interval / 100.);
+    for (std::uint64_t step = 1; step <= n_steps && failure.empty(); ++step)
       {
         const double next_time = step * time_step;
         const bool   profile =
@@ -405,6 +434,7 @@ namespace isoimpact
         if (step % progress_every == 0 || step == n_steps)
           print_progress();
       }
+    history->flush();
     history.reset(); // closes history.csv
 
     // summary.json holds the figures a user compares between runs: peaks,
@@ -485,7 +515,23 @@ main(int argc, char **argv)
     }
   if (argument == "--print-parameters")
     {
-      print_default_parameters(std::cout);
+      // Into a full device the write fails: say so, with exit 1.
+      try
+        {
+          print_default_parameters(std::cout);
+          std::cout.flush();
+        }
+      catch (...)
+        {
+          std::cout.setstate(std::ios::badbit);
+        }
+      if (!std::cout)
+        {
+          std::cerr << "isoimpact: error: writing the default parameters "
+                       "to the standard output failed (is the disk full?)"
+                    << std::endl;
+          return 1;
+        }
       return 0;
     }
 

@@ -139,3 +139,10 @@ add_test(NAME contact_damping
     $<TARGET_FILE:isoimpact_program> ${CMAKE_CURRENT_SOURCE_DIR}/prm
     ${_work}/contact_damping)
 set_tests_properties(contact_damping PROPERTIES TIMEOUT 900)
+
+# Output that survives a stop, a full disk and a rerun (issue 10).
+add_test(NAME output_robustness
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/output_robustness.py
+    $<TARGET_FILE:isoimpact_program>
+    ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm ${_work}/output_robustness)
+set_tests_properties(output_robustness PROPERTIES TIMEOUT 300)

@@ -5,9 +5,13 @@
 #include <isoimpact/scene/output.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 
 using namespace dealii;
 
@@ -72,6 +76,42 @@ namespace isoimpact
     };
   } // namespace
 
+
+
+  void
+  close_and_check(std::ofstream     &out,
+                  const std::string &path,
+                  const std::string &name)
+  {
+    out.close();
+    if (out.fail())
+      {
+        const std::string reason = std::strerror(errno);
+        std::error_code   ignored; // a half-written file is not left
+        std::filesystem::remove(path, ignored);
+        throw std::runtime_error("writing '" + (name.empty() ? path : name) +
+                                 "' failed: " + reason +
+                                 " (is the disk full?)");
+      }
+  }
+
+
+
+  void
+  write_by_rename(const std::string                         &path,
+                  const std::function<void(std::ostream &)> &writer)
+  {
+    const std::string temporary = path + ".tmp";
+    {
+      std::ofstream out(temporary);
+      writer(out);
+      close_and_check(out, temporary, path);
+    }
+    std::filesystem::rename(temporary, path);
+  }
+
+
+
   SolutionWriter::SolutionWriter(const std::string &directory,
                                  const unsigned int n_subdivisions)
     : directory(directory)
@@ -117,19 +157,47 @@ namespace isoimpact
         data_out.set_flags(flags);
 
         const std::string piece = body->name() + "_" + number + ".vtu";
-        std::ofstream     out(directory + "/" + piece);
-        data_out.write_vtu(out);
+        // Every file by rename: a stopped run leaves complete files (and
+        // at most one .tmp).
+        write_by_rename(directory + "/" + piece, [&](std::ostream &out) {
+          try
+            {
+              data_out.write_vtu(out);
+            }
+          catch (const ExceptionBase &)
+            {
+              out.setstate(std::ios::badbit); // reported by close_and_check
+            }
+        });
         pieces.push_back(piece);
         if (body == bodies.back())
           {
             const std::string pvtu = "solution_" + number + ".pvtu";
-            std::ofstream     record(directory + "/" + pvtu);
-            data_out.write_pvtu_record(record, pieces);
+            write_by_rename(directory + "/" + pvtu, [&](std::ostream &record) {
+              try
+                {
+                  data_out.write_pvtu_record(record, pieces);
+                }
+              catch (const ExceptionBase &)
+                {
+                  record.setstate(std::ios::badbit);
+                }
+            });
             times_and_names.emplace_back(time, pvtu);
           }
       }
-    std::ofstream pvd(directory + "/solution.pvd");
-    DataOutBase::write_pvd_record(pvd, times_and_names);
+    // Rewritten at every output: by rename, so that a stop leaves the
+    // previous complete record.
+    write_by_rename(directory + "/solution.pvd", [&](std::ostream &pvd) {
+      try
+        {
+          DataOutBase::write_pvd_record(pvd, times_and_names);
+        }
+      catch (const ExceptionBase &)
+        {
+          pvd.setstate(std::ios::badbit);
+        }
+    });
     return times_and_names.back().second;
   }
 
@@ -140,6 +208,7 @@ namespace isoimpact
                                const Parameters  &parameters,
                                const Scene       &scene)
     : scene(scene)
+    , path(path)
     , out(path)
   {
     out << "# isoimpact history of " << parameter_file << "\n"
@@ -165,7 +234,41 @@ namespace isoimpact
            "strain_energy,contact_energy,contact_damping_work,total_energy";
     if (scene.reference)
       out << ",analytic_contact_force,analytic_max_contact_pressure";
-    out << '\n' << std::setprecision(10);
+    out << '\n';
+    rows << std::setprecision(10);
+    flush();
+  }
+
+
+
+  HistoryWriter::~HistoryWriter()
+  {
+    try
+      {
+        flush();
+      }
+    catch (...)
+      {}
+  }
+
+
+
+  void
+  HistoryWriter::flush()
+  {
+    out << rows.str();
+    out.flush();
+    rows.str("");
+    if (!out)
+      {
+        // Cut back to the last complete row: the file stays readable.
+        const std::string reason = std::strerror(errno);
+        std::error_code   ignored;
+        std::filesystem::resize_file(path, written, ignored);
+        throw std::runtime_error("writing '" + path + "' failed: " + reason +
+                                 " (is the disk full?)");
+      }
+    written = out.tellp();
   }
 
 
@@ -178,14 +281,17 @@ namespace isoimpact
                        const EnergyBalance &energy)
   {
     const double factor = scene.symmetry_factor;
-    out << time << ',' << contact_force << ',' << max_pressure << ','
-        << max_gauss_point_pressure << ',' << factor * energy.kinetic << ','
-        << factor * energy.strain << ',' << factor * energy.contact << ','
-        << factor * energy.contact_damping << ',' << factor * energy.total();
+    rows << time << ',' << contact_force << ',' << max_pressure << ','
+         << max_gauss_point_pressure << ',' << factor * energy.kinetic << ','
+         << factor * energy.strain << ',' << factor * energy.contact << ','
+         << factor * energy.contact_damping << ',' << factor * energy.total();
     if (scene.reference)
-      out << ',' << scene.reference->contact_force(time) << ','
-          << scene.reference->max_contact_pressure(time);
-    out << '\n';
+      rows << ',' << scene.reference->contact_force(time) << ','
+           << scene.reference->max_contact_pressure(time);
+    rows << '\n';
+    // Whole rows only reach the file: a killed run leaves complete ones.
+    if (rows.tellp() > (1 << 16))
+      flush();
   }
 
 
@@ -207,25 +313,26 @@ namespace isoimpact
     std::ostringstream name;
     name << directory << "/contact_pressure_t" << std::fixed
          << std::setprecision(4) << time << ".csv";
-    std::ofstream out(name.str());
-    out << "# contact pressure along the contact surface at t = " << time
-        << " s\n# units: position [m] (reference position across the line "
-           "of impact), pressure [Pa] (the consistent pressure field), "
-           "gauss_point_pressure [Pa] (the pointwise penalty traction); "
-           "surface: 1 or 2 (the body whose Gauss point it is)\n"
-           "position,pressure,gauss_point_pressure,surface";
-    const double force = reference ? reference->contact_force(time) : 0.;
-    if (reference)
-      out << ",analytic_pressure";
-    out << '\n' << std::setprecision(10);
-    for (const auto &point : points)
-      {
-        const double s = point.reference_position * across;
-        out << s << ',' << point.pressure << ',' << point.gauss_point_pressure
-            << ',' << point.body + 1;
-        if (reference)
-          out << ',' << reference->pressure(force, s);
-        out << '\n';
-      }
+    write_by_rename(name.str(), [&](std::ostream &out) {
+      out << "# contact pressure along the contact surface at t = " << time
+          << " s\n# units: position [m] (reference position across the line "
+             "of impact), pressure [Pa] (the consistent pressure field), "
+             "gauss_point_pressure [Pa] (the pointwise penalty traction); "
+             "surface: 1 or 2 (the body whose Gauss point it is)\n"
+             "position,pressure,gauss_point_pressure,surface";
+      const double force = reference ? reference->contact_force(time) : 0.;
+      if (reference)
+        out << ",analytic_pressure";
+      out << '\n' << std::setprecision(10);
+      for (const auto &point : points)
+        {
+          const double s = point.reference_position * across;
+          out << s << ',' << point.pressure << ',' << point.gauss_point_pressure
+              << ',' << point.body + 1;
+          if (reference)
+            out << ',' << reference->pressure(force, s);
+          out << '\n';
+        }
+    });
   }
 } // namespace isoimpact

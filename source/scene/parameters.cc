@@ -4,10 +4,12 @@
 #include <isoimpact/scene/hertz_reference.h>
 #include <isoimpact/scene/parameters.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 
 using namespace dealii;
@@ -52,6 +54,77 @@ namespace isoimpact
     {
       return Utilities::string_to_double(
         Utilities::split_string_list(text, ','));
+    }
+
+    // What ParameterHandler accepts silently: a file that sets nothing
+    // (the default scene would run) and a key set twice (the last value
+    // would win). The file is read as deal.II does: '#' starts a comment, a
+    // trailing backslash continues the line.
+    void
+    check_file_structure(const std::string &filename)
+    {
+      std::ifstream            in(filename);
+      std::vector<std::string> path;
+      // "Subsection/.../Key" -> the line number and value of its first set.
+      std::map<std::string, std::pair<unsigned int, std::string>> first_set;
+      std::string                                                 line, text;
+      unsigned int line_number = 0, first_line = 0;
+      const auto   trim = [](const std::string &s) {
+        std::string out;
+        for (const char c : s) // collapse runs of white space
+          if (!std::isspace(static_cast<unsigned char>(c)))
+            out += c;
+          else if (!out.empty() && out.back() != ' ')
+            out += ' ';
+        if (!out.empty() && out.back() == ' ')
+          out.pop_back();
+        return out;
+      };
+      while (std::getline(in, line))
+        {
+          ++line_number;
+          if (text.empty())
+            first_line = line_number;
+          line                    = line.substr(0, line.find('#'));
+          const std::string piece = trim(line);
+          if (!piece.empty() && piece.back() == '\\')
+            {
+              text += piece.substr(0, piece.size() - 1) + ' ';
+              continue;
+            }
+          text = trim(text + piece);
+          if (text.rfind("subsection ", 0) == 0)
+            path.push_back(text.substr(11));
+          else if (text == "end" && !path.empty())
+            path.pop_back();
+          else if (text.rfind("set ", 0) == 0 &&
+                   text.find('=') != std::string::npos)
+            {
+              const auto  equal = text.find('=');
+              std::string key;
+              for (const auto &name : path)
+                key += name + "/";
+              key += trim(text.substr(4, equal - 4));
+              const std::string value = trim(text.substr(equal + 1));
+              const auto [entry, inserted] =
+                first_set.emplace(key, std::make_pair(first_line, value));
+              if (!inserted)
+                throw InputError(
+                  "in parameter file '" + filename + "': parameter '" + key +
+                  "' is set twice, on line " +
+                  std::to_string(entry->second.first) + " (value '" +
+                  entry->second.second + "') and on line " +
+                  std::to_string(first_line) + " (value '" + value +
+                  "'); each parameter may be set once: remove one");
+            }
+          text.clear();
+        }
+      if (first_set.empty())
+        throw InputError(
+          "in parameter file '" + filename +
+          "': the file sets no parameter (it is empty or holds only "
+          "comments), so the default scene would run; a complete file with "
+          "every parameter: isoimpact --print-parameters");
     }
 
     void
@@ -477,6 +550,8 @@ namespace isoimpact
       throw InputError("parameter file '" + filename +
                        "' does not exist or is not a file");
 
+    check_file_structure(filename);
+
     ParameterHandler prm;
     Parameters::declare(prm);
     try
@@ -623,6 +698,117 @@ namespace isoimpact
                 "rectangle",
                 "the analytic Hertz reference needs disks: set "
                 "Output/Analytic reference = none");
+    // Values of valid form but beyond what double precision carries
+    // through the assembly (squares of lengths and moduli, energies) or
+    // beyond any physical meaning: refused by name rather than failing
+    // inside deal.II. Coordinates may lie at most 1e6 body sizes from the
+    // origin, so that round-off in them stays below 1e-10 of a body.
+    const auto within = [&](const double       value,
+                            const double       low,
+                            const double       high,
+                            const std::string &parameter,
+                            const std::string &unit) {
+      std::ostringstream allowed;
+      allowed << "it must lie in [" << low << ", " << high << "] " << unit;
+      require(std::isfinite(value) && value >= low && value <= high,
+              parameter,
+              value,
+              allowed.str());
+    };
+    const double size        = parameters.smallest_body_size();
+    const double coordinate  = 1e6 * size;
+    const auto   near_origin = [&](const Point<2>    &point,
+                                 const std::string &parameter) {
+      std::ostringstream allowed;
+      allowed << "a point must lie within " << coordinate
+              << " m of the origin (1e6 times the smallest body size, " << size
+              << " m) to keep its precision: move the scene";
+      require(std::isfinite(point.norm()) && point.norm() <= coordinate,
+              parameter,
+              "(" + point_string(point) + ")",
+              allowed.str());
+    };
+    // Coordinates are checked last, once the sizes are known to be sound.
+    std::vector<std::pair<Point<2>, std::string>> points;
+    for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
+      {
+        const auto       &body = parameters.bodies[b];
+        const std::string s    = std::string(body_names[b]) + "/";
+        if (body.geometry.shape == BodyGeometry::Shape::rectangle)
+          {
+            const auto diagonal =
+              body.geometry.upper_right - body.geometry.lower_left;
+            within(std::min(diagonal[0], diagonal[1]),
+                   1e-9,
+                   1e9,
+                   s + "Upper right corner (the shorter side)",
+                   "m");
+            within(std::max(diagonal[0], diagonal[1]),
+                   1e-9,
+                   1e9,
+                   s + "Upper right corner (the longer side)",
+                   "m");
+            points.emplace_back(body.geometry.lower_left,
+                                s + "Lower left corner");
+            points.emplace_back(body.geometry.upper_right,
+                                s + "Upper right corner");
+          }
+        else
+          {
+            within(body.geometry.radius, 1e-9, 1e9, s + "Radius", "m");
+            points.emplace_back(body.geometry.center, s + "Center");
+          }
+        within(body.material.youngs_modulus,
+               1e-6,
+               1e15,
+               s + "Material/Young's modulus",
+               "Pa");
+        within(body.material.density,
+               1e-6,
+               1e9,
+               s + "Material/Density",
+               "kg/m^3");
+        require(body.initial_velocity.norm() <= 1e8,
+                s + "Initial velocity",
+                "(" + point_string(Point<2>(body.initial_velocity)) + ")",
+                "its magnitude must not exceed 1e8 m/s");
+      }
+    if (parameters.bodies[0].geometry.local_refinements > 0)
+      {
+        points.emplace_back(parameters.bodies[0].geometry.refinement_center,
+                            "Discretization/Refinement center");
+        within(parameters.bodies[0].geometry.refinement_radius,
+               1e-9,
+               1e9,
+               "Discretization/Refinement radius",
+               "m");
+      }
+    if (!parameters.obstacle.active())
+      within(parameters.contact.penalty, 1e-6, 1e20, "Contact/Penalty", "Pa/m");
+    if (parameters.obstacle.active())
+      {
+        const auto &obstacle = parameters.obstacle;
+        within(obstacle.penalty, 1e-6, 1e20, "Obstacle/Penalty", "Pa/m");
+        if (obstacle.type == "cylinder")
+          {
+            within(obstacle.radius, 1e-9, 1e9, "Obstacle/Radius", "m");
+            points.emplace_back(obstacle.center, "Obstacle/Center");
+          }
+        else
+          points.emplace_back(obstacle.point, "Obstacle/Point");
+        if (obstacle.type == "channel")
+          points.emplace_back(obstacle.opposite_point,
+                              "Obstacle/Opposite point");
+      }
+    // A moving average far longer than the run means nothing (and its width
+    // in steps must stay countable).
+    require(parameters.filter_window <= 10. * parameters.end_time,
+            "Output/Filter window",
+            parameters.filter_window,
+            "it must not exceed 10 times the end time (" +
+              std::to_string(10. * parameters.end_time) + " s)");
+    for (const auto &[point, parameter] : points)
+      near_origin(point, parameter);
     return parameters;
   }
 

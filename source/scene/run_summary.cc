@@ -1,4 +1,5 @@
 // Layer 6: the run summary and the moving-average filter.
+#include <isoimpact/scene/output.h>
 #include <isoimpact/scene/run_summary.h>
 
 #include <nlohmann/json.hpp>
@@ -287,10 +288,8 @@ namespace isoimpact
            rel(filtered_peak_pressure(), ref.peak_pressure())}};
       }
 
-    {
-      std::ofstream out(path + ".tmp");
+    write_by_rename(path, [&](std::ostream &out) {
       out << summary.dump(2) << '\n';
-    }
-    std::filesystem::rename(path + ".tmp", path);
+    });
   }
 } // namespace isoimpact

@@ -2,14 +2,387 @@
 #include <isoimpact/mechanics/assembly.h>
 #include <isoimpact/scene/scene.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <fstream>
+#include <iomanip>
 #include <limits>
 #include <sstream>
+#include <tuple>
 
 using namespace dealii;
 
 namespace isoimpact
 {
+  namespace
+  {
+    const char *body_names[2] = {"Body 1", "Body 2"};
+
+    std::string
+    text(const double value)
+    {
+      std::ostringstream out;
+      out << value;
+      return out.str();
+    }
+
+    std::string
+    text(const Tensor<1, 2> &value)
+    {
+      std::ostringstream out;
+      out << '(' << value[0] << ", " << value[1] << ')';
+      return out.str();
+    }
+
+    [[noreturn]] void
+    refuse(const std::string &parameter_file, const std::string &message)
+    {
+      throw InputError("in parameter file '" + parameter_file +
+                       "': " + message);
+    }
+
+    // The parameters that place a body and their values.
+    std::string
+    placement(const Parameters &parameters, const unsigned int b)
+    {
+      const BodyGeometry &g = parameters.bodies[b].geometry;
+      const std::string   s = std::string("'") + body_names[b] + "/";
+      if (g.shape == BodyGeometry::Shape::rectangle)
+        return s + "Lower left corner' = " + text(g.lower_left) + ", " + s +
+               "Upper right corner' = " + text(g.upper_right);
+      return s + "Center' = " + text(g.center) + ", " + s +
+             "Radius' = " + text(g.radius);
+    }
+
+    // How deep a point lies inside a body: the distance to its boundary if
+    // inside, else <= 0. Exact inside, as every shape is an intersection of
+    // half planes and a disk.
+    double
+    depth_inside(const BodyGeometry &g, const Point<2> &p)
+    {
+      switch (g.shape)
+        {
+          case BodyGeometry::Shape::half_disk:
+            return std::min(g.radius - p.distance(g.center),
+                            p[0] - g.center[0]);
+          case BodyGeometry::Shape::full_disk:
+            return g.radius - p.distance(g.center);
+          case BodyGeometry::Shape::rectangle:
+            return std::min({p[0] - g.lower_left[0],
+                             g.upper_right[0] - p[0],
+                             p[1] - g.lower_left[1],
+                             g.upper_right[1] - p[1]});
+        }
+      return 0.;
+    }
+
+    // Points along the boundary of a body, 20000 per curve or side: an
+    // overlap deeper than 2e-8 of a radius is found.
+    std::vector<Point<2>>
+    boundary_points(const BodyGeometry &g)
+    {
+      const unsigned int    n = 20000;
+      std::vector<Point<2>> points;
+      const auto segment = [&](const Point<2> &a, const Point<2> &b) {
+        for (unsigned int i = 0; i <= n; ++i)
+          points.push_back(a + (double(i) / n) * (b - a));
+      };
+      const auto arc = [&](const double from, const double to) {
+        for (unsigned int i = 0; i <= n; ++i)
+          {
+            const double angle = from + (to - from) * i / n;
+            points.push_back(
+              g.center + g.radius * Point<2>(std::cos(angle), std::sin(angle)));
+          }
+      };
+      switch (g.shape)
+        {
+          case BodyGeometry::Shape::half_disk:
+            arc(-numbers::PI / 2., numbers::PI / 2.);
+            segment(Point<2>(g.center[0], g.center[1] - g.radius),
+                    Point<2>(g.center[0], g.center[1] + g.radius));
+            break;
+          case BodyGeometry::Shape::full_disk:
+            arc(-numbers::PI, numbers::PI);
+            break;
+          case BodyGeometry::Shape::rectangle:
+            {
+              const Point<2> a = g.lower_left, c = g.upper_right;
+              const Point<2> b(c[0], a[1]), d(a[0], c[1]);
+              segment(a, b), segment(b, c), segment(c, d), segment(d, a);
+              break;
+            }
+        }
+      return points;
+    }
+
+    // The velocity of the obstacle (0) or Body 2 relative to Body 1.
+    Tensor<1, 2>
+    relative_velocity(const Parameters &parameters)
+    {
+      Tensor<1, 2> velocity = -parameters.bodies[0].initial_velocity;
+      if (!parameters.obstacle.active())
+        velocity += parameters.bodies[1].initial_velocity;
+      return velocity;
+    }
+
+    // The quasi-static Hertz impact of the parameters (deal.II exceptions
+    // if it cannot describe it).
+    std::unique_ptr<HertzImpactReference>
+    make_reference(const Parameters &parameters)
+    {
+      const auto                    &obstacle = parameters.obstacle;
+      std::array<ElasticCylinder, 2> cylinders;
+      for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
+        {
+          const auto &body = parameters.bodies[b];
+          cylinders[b]     = {body.geometry.radius,
+                              body.material.youngs_modulus,
+                              body.material.poisson_ratio,
+                              body.material.density};
+        }
+      double closing_speed = relative_velocity(parameters).norm();
+      if (obstacle.type == "plane")
+        {
+          // The mirror image of body 1 in the plane, approaching at twice
+          // the normal speed: the plane is the symmetry line of that
+          // impact, which has the same force history.
+          cylinders[1]  = cylinders[0];
+          closing_speed = -2. * (parameters.bodies[0].initial_velocity *
+                                 obstacle.normal / obstacle.normal.norm());
+        }
+      else if (obstacle.type == "cylinder")
+        {
+          // A rigid cylinder as the limit of a stiff and heavy one.
+          const double rigid = 1e12;
+          cylinders[1]       = {obstacle.radius,
+                                rigid * cylinders[0].youngs_modulus,
+                                cylinders[0].poisson_ratio,
+                                rigid * cylinders[0].density};
+        }
+      return std::make_unique<HertzImpactReference>(
+        cylinders[0],
+        cylinders[1],
+        closing_speed,
+        approach_law_names.from_string(parameters.approach_law));
+    }
+
+    // The deepest of the points by the given depth: (depth, point).
+    template <typename Depth>
+    std::pair<double, Point<2>>
+    deepest(const std::vector<Point<2>> &points, const Depth &depth)
+    {
+      std::pair<double, Point<2>> result(-std::numeric_limits<double>::max(),
+                                         Point<2>());
+      for (const auto &p : points)
+        if (const double d = depth(p); d > result.first)
+          result = {d, p};
+      return result;
+    }
+
+    // The bodies overlap, or Body 1 and the obstacle.
+    void
+    check_start_positions(const Parameters &parameters, const std::string &file)
+    {
+      const double tolerance = 1e-6 * parameters.smallest_body_size();
+      const auto   allowed =
+        "(allowed: " + text(tolerance) + " m, 1e-6 of the smallest body size)";
+      if (!parameters.obstacle.active())
+        {
+          for (unsigned int a = 0; a < 2; ++a)
+            {
+              const auto &other = parameters.bodies[1 - a].geometry;
+              const auto [depth, p] =
+                deepest(boundary_points(parameters.bodies[a].geometry),
+                        [&](const Point<2> &q) {
+                          return depth_inside(other, q);
+                        });
+              if (depth > tolerance)
+                refuse(file,
+                       "Body 1 and Body 2 overlap at t = 0: the point " +
+                         text(p) + " of " + body_names[a] +
+                         "'s boundary lies " + text(depth) + " m inside " +
+                         body_names[1 - a] + " (" + placement(parameters, 0) +
+                         "; " + placement(parameters, 1) +
+                         "). The bodies may touch but not overlap " + allowed +
+                         ": move them apart");
+            }
+          return;
+        }
+      const auto &obstacle = parameters.obstacle;
+      const auto &body     = parameters.bodies[0].geometry;
+      const auto  points   = boundary_points(body);
+      if (obstacle.type == "cylinder")
+        {
+          const std::string cylinder =
+            "the rigid cylinder ('Obstacle/Center' = " + text(obstacle.center) +
+            ", 'Obstacle/Radius' = " + text(obstacle.radius) + ")";
+          if (const double depth = depth_inside(body, obstacle.center);
+              depth > 0.)
+            refuse(file,
+                   cylinder + " has its centre " + text(depth) +
+                     " m inside Body 1 (" + placement(parameters, 0) +
+                     "): the obstacle must lie outside the body");
+          const auto [depth, p] = deepest(points, [&](const Point<2> &q) {
+            return obstacle.radius - q.distance(obstacle.center);
+          });
+          if (depth > tolerance)
+            refuse(file,
+                   "Body 1 starts inside " + cylinder + ": its point " +
+                     text(p) + " lies " + text(depth) + " m inside (" +
+                     placement(parameters, 0) +
+                     "). Body 1 may touch the obstacle but not overlap " +
+                     "it " + allowed + ": move it out");
+          return;
+        }
+      const Tensor<1, 2> normal = obstacle.normal / obstacle.normal.norm();
+      std::vector<std::tuple<Point<2>, Tensor<1, 2>, std::string>> walls = {
+        {obstacle.point,
+         normal,
+         "the rigid plane through 'Obstacle/Point' = " + text(obstacle.point) +
+           " with 'Obstacle/Normal' = " + text(obstacle.normal)}};
+      if (obstacle.type == "channel")
+        walls.emplace_back(obstacle.opposite_point,
+                           -normal,
+                           "the second plane of the channel, through "
+                           "'Obstacle/Opposite point' = " +
+                             text(obstacle.opposite_point));
+      for (const auto &[point, n, name] : walls)
+        {
+          const auto [depth, p] = deepest(points, [&](const Point<2> &q) {
+            return -((q - point) * n);
+          });
+          if (depth > tolerance)
+            refuse(file,
+                   "Body 1 starts inside " + name + ": its point " + text(p) +
+                     " lies " + text(depth) + " m behind the plane (" +
+                     placement(parameters, 0) +
+                     "); the obstacle fills the side the normal points "
+                     "away from. Body 1 may touch the plane but not cross "
+                     "it " +
+                     allowed + ": move it to the other side");
+        }
+    }
+
+    // With an analytic reference: the scene it describes.
+    void
+    check_reference_scene(const Parameters &parameters, const std::string &file)
+    {
+      const std::string way_out =
+        " or set 'Output/Analytic reference = none' to run without the "
+        "analytic columns";
+      const std::string reference =
+        "'Output/Analytic reference' = " + parameters.approach_law +
+        " describes a head-on impact ";
+      const double tolerance = 1e-6 * parameters.smallest_body_size();
+      const auto  &obstacle  = parameters.obstacle;
+      const auto  &body      = parameters.bodies[0].geometry;
+      // The partner's centre and radius (a plane: none), and the gap.
+      if (obstacle.type != "plane")
+        {
+          const bool     cylinder = obstacle.type == "cylinder";
+          const Point<2> center =
+            cylinder ? obstacle.center : parameters.bodies[1].geometry.center;
+          const double radius =
+            cylinder ? obstacle.radius : parameters.bodies[1].geometry.radius;
+          const std::string partner =
+            cylinder ? "the rigid cylinder" : "Body 2";
+          const double       distance = center.distance(body.center);
+          const double       gap      = distance - body.radius - radius;
+          const Tensor<1, 2> line     = (center - body.center) / distance;
+          const Point<2>     first    = body.center + body.radius * line;
+          const std::string  where =
+            " (" + placement(parameters, 0) + "; " +
+            (cylinder ? "'Obstacle/Center' = " + text(obstacle.center) +
+                          ", 'Obstacle/Radius' = " + text(obstacle.radius) :
+                        placement(parameters, 1)) +
+            ")";
+          if (gap > tolerance)
+            refuse(file,
+                   reference +
+                     "of bodies that touch at t = 0, but Body 1 and " +
+                     partner + " are " + text(gap) + " m apart" + where +
+                     ": move them into contact" + way_out);
+          for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
+            if (parameters.bodies[b].geometry.shape ==
+                  BodyGeometry::Shape::half_disk &&
+                first[0] < parameters.bodies[b].geometry.center[0] - tolerance)
+              refuse(file,
+                     reference +
+                       "of disks that touch on their arcs, but the "
+                       "first contact point " +
+                       text(first) + " is not on the arc of half disk " +
+                       body_names[b] + where + way_out);
+          const Tensor<1, 2> closing = -relative_velocity(parameters);
+          const double       along   = closing * line;
+          if (!(along > 0. &&
+                (closing - along * line).norm() <= 1e-6 * closing.norm()))
+            refuse(file,
+                   reference + "along the line of centres " + text(line) +
+                     ", but the velocity of Body 1 relative to " + partner +
+                     " is " + text(closing) + " ('Body 1/Initial velocity' = " +
+                     text(parameters.bodies[0].initial_velocity) +
+                     (cylinder ?
+                        std::string() :
+                        ", 'Body 2/Initial velocity' = " +
+                          text(parameters.bodies[1].initial_velocity)) +
+                     "): make it point along that line, towards " + partner +
+                     way_out);
+        }
+      else
+        {
+          const Tensor<1, 2> normal = obstacle.normal / obstacle.normal.norm();
+          const double       gap =
+            (body.center - obstacle.point) * normal - body.radius;
+          if (std::abs(gap) > tolerance)
+            refuse(file,
+                   reference +
+                     "of Body 1 touching the rigid plane at t = 0, "
+                     "but it is " +
+                     text(gap) + " m from it (" + placement(parameters, 0) +
+                     "; 'Obstacle/Point' = " + text(obstacle.point) +
+                     ", 'Obstacle/Normal' = " + text(obstacle.normal) +
+                     "): move it into contact" + way_out);
+          const Point<2> first = body.center - body.radius * normal;
+          if (body.shape == BodyGeometry::Shape::half_disk &&
+              first[0] < body.center[0] - tolerance)
+            refuse(file,
+                   reference +
+                     "of Body 1 touching the plane with its arc, but "
+                     "the point of the full disk nearest the plane, " +
+                     text(first) + ", is not on the half disk's arc (" +
+                     placement(parameters, 0) + "; 'Obstacle/Normal' = " +
+                     text(obstacle.normal) + ")" + way_out);
+        }
+      try
+        {
+          make_reference(parameters);
+        }
+      catch (const ExceptionBase &e)
+        {
+          std::ostringstream reason;
+          e.print_info(reason);
+          std::string message = reason.str();
+          message.erase(0, message.find_first_not_of(" \n"));
+          while (!message.empty() && std::isspace(message.back()))
+            message.pop_back();
+          refuse(file,
+                 "'Output/Analytic reference' = " + parameters.approach_law +
+                   " cannot describe this impact ('Body 1/Initial velocity' "
+                   "= " +
+                   text(parameters.bodies[0].initial_velocity) +
+                   (parameters.obstacle.active() ?
+                      std::string() :
+                      ", 'Body 2/Initial velocity' = " +
+                        text(parameters.bodies[1].initial_velocity)) +
+                   "): " + message + " Lower the closing speed" + way_out);
+        }
+    }
+  } // namespace
+
+
+
   std::vector<ElasticBody<2> *>
   Scene::body_pointers() const
   {
@@ -54,8 +427,8 @@ namespace isoimpact
       }
 
     // Contact is searched only on the declared surfaces: the arcs.
-    const auto  &obstacle          = parameters.obstacle;
-    Tensor<1, 2> relative_velocity = -parameters.bodies[0].initial_velocity;
+    const auto        &obstacle = parameters.obstacle;
+    const Tensor<1, 2> relative = relative_velocity(parameters);
     if (obstacle.active())
       {
         std::vector<RigidObstacle<2>> rigid;
@@ -91,7 +464,6 @@ namespace isoimpact
           scene.bodies[1]->discretization().boundary_segments(
             BodyGeometry::curved_boundary_id)));
         scene.interactions.push_back({scene.contacts.back().get(), 0, 1});
-        relative_velocity += parameters.bodies[1].initial_velocity;
       }
 
     // The contact damping scales with the surface mass: the lumped masses
@@ -118,48 +490,13 @@ namespace isoimpact
           }
       }
 
-    if (relative_velocity.norm() > 0.)
-      scene.impact_direction = relative_velocity / relative_velocity.norm();
+    if (relative.norm() > 0.)
+      scene.impact_direction = relative / relative.norm();
     else
       scene.impact_direction[1] = 1.;
 
     if (parameters.approach_law != "none")
-      {
-        std::array<ElasticCylinder, 2> cylinders;
-        for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
-          {
-            const auto &body = parameters.bodies[b];
-            cylinders[b]     = {body.geometry.radius,
-                                body.material.youngs_modulus,
-                                body.material.poisson_ratio,
-                                body.material.density};
-          }
-        double closing_speed = relative_velocity.norm();
-        if (obstacle.type == "plane")
-          {
-            // The mirror image of body 1 in the plane, approaching at twice
-            // the normal speed: the plane is the symmetry line of that
-            // impact, which has the same force history.
-            cylinders[1]  = cylinders[0];
-            closing_speed = -2. * (parameters.bodies[0].initial_velocity *
-                                   obstacle.normal / obstacle.normal.norm());
-          }
-        else if (obstacle.type == "cylinder")
-          {
-            // A rigid cylinder as the limit of a stiff and heavy one.
-            const double rigid = 1e12;
-            cylinders[1]       = {obstacle.radius,
-                                  rigid * cylinders[0].youngs_modulus,
-                                  cylinders[0].poisson_ratio,
-                                  rigid * cylinders[0].density};
-          }
-        scene.reference =
-          std::make_unique<HertzImpactReference>(cylinders[0],
-                                                 cylinders[1],
-                                                 closing_speed,
-                                                 approach_law_names.from_string(
-                                                   parameters.approach_law));
-      }
+      scene.reference = make_reference(parameters);
     return scene;
   }
 
@@ -190,6 +527,161 @@ namespace isoimpact
       }
     return parameters.time_step;
   }
+
+  std::pair<double, double>
+  estimated_memory_and_cells(const Parameters &parameters)
+  {
+    double cells = 0.;
+    for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
+      {
+        const BodyGeometry &g = parameters.bodies[b].geometry;
+        // The coarse mesh: cells and area.
+        double coarse = 1., area = 0.;
+        switch (g.shape)
+          {
+            case BodyGeometry::Shape::half_disk:
+              coarse = 4., area = numbers::PI * g.radius * g.radius / 2.;
+              break;
+            case BodyGeometry::Shape::full_disk:
+              coarse = 5., area = numbers::PI * g.radius * g.radius;
+              break;
+            case BodyGeometry::Shape::rectangle:
+              {
+                const auto d = g.upper_right - g.lower_left;
+                area         = std::abs(d[0] * d[1]);
+                break;
+              }
+          }
+        // The part of the body within a distance of the refinement centre,
+        // from a 200 x 200 grid over the disk of that radius.
+        const auto zone_area = [&](const double radius) {
+          const unsigned int m     = 200;
+          const double       pixel = 2. * radius / m;
+          unsigned int       count = 0;
+          for (unsigned int i = 0; i < m; ++i)
+            for (unsigned int j = 0; j < m; ++j)
+              {
+                const Point<2> p =
+                  g.refinement_center + Point<2>((i + 0.5) * pixel - radius,
+                                                 (j + 0.5) * pixel - radius);
+                count += p.distance(g.refinement_center) < radius &&
+                         depth_inside(g, p) > 0.;
+              }
+          return std::min(area, count * pixel * pixel);
+        };
+        // Each local pass splits the cells of the zone (a vertex within the
+        // refinement radius: centres within about half a cell more) in four.
+        double n         = coarse * std::pow(4., g.global_refinements);
+        double cell_area = area / n;
+        for (unsigned int k = 0; k < g.local_refinements; ++k)
+          {
+            n += 3. *
+                 zone_area(g.refinement_radius + std::sqrt(cell_area) / 2.) /
+                 cell_area;
+            cell_area /= 4.;
+          }
+        // IGA halves knot spans along whole knot lines, through the
+        // patches: measured 1.8 to 2.9 times the cells of FEA at levels 3
+        // and 4 with 1 to 5 local passes.
+        cells += (parameters.method == DiscretizationMethod::iga &&
+                  g.local_refinements > 0) ?
+                   3. * n :
+                   n;
+      }
+    // Measured peak memory at degree 2 (FE_Q, HRZ, levels 4 to 6): about
+    // 170 MB plus 6.5 kB per cell; the matrices grow with the coupling of
+    // the (degree + 1)^2 functions of a cell, and a consistent mass
+    // doubles them with its factorisation.
+    const double per_cell =
+      8192. * std::pow((parameters.degree + 1.) / 3., 4) *
+      (parameters.mass_scheme == MassScheme::consistent ? 2. : 1.);
+    return {2e8 + per_cell * cells, cells};
+  }
+
+
+
+  void
+  check_scene(const Parameters &parameters, const std::string &parameter_file)
+  {
+    check_start_positions(parameters, parameter_file);
+    if (parameters.approach_law != "none")
+      check_reference_scene(parameters, parameter_file);
+
+    // Memory, before anything is allocated.
+    const auto [bytes, cells] = estimated_memory_and_cells(parameters);
+    std::ifstream meminfo("/proc/meminfo");
+    std::string   key;
+    double        available_kB = 0.;
+    while (meminfo >> key)
+      if (key == "MemAvailable:")
+        {
+          meminfo >> available_kB;
+          break;
+        }
+    const double available = 1024. * available_kB;
+    if (available > 0. && bytes > available)
+      {
+        std::ostringstream message;
+        const auto        &g = parameters.bodies[0].geometry;
+        message << std::setprecision(3)
+                << "'Discretization/Global refinements' = "
+                << g.global_refinements
+                << " and 'Discretization/Local refinements' = "
+                << g.local_refinements << " (Degree " << parameters.degree
+                << ", " << to_string(parameters.method) << ", "
+                << to_string(parameters.mass_scheme) << " mass) give about "
+                << cells << " cells, an estimated " << bytes / 1e9
+                << " GB of memory, more than the " << available / 1e9
+                << " GB available (MemAvailable in /proc/meminfo): use "
+                   "fewer refinements (each global one needs about four "
+                   "times the memory)";
+        refuse(parameter_file, message.str());
+      }
+
+    if (!parameters.automatic_time_step)
+      time_steps_to_end(parameters, parameters.time_step, parameter_file);
+  }
+
+
+
+  TimeSteps
+  time_steps_to_end(const Parameters  &parameters,
+                    const double       selected_time_step,
+                    const std::string &parameter_file)
+  {
+    const double steps =
+      std::ceil(parameters.end_time / selected_time_step - 1e-9);
+    if (!(steps <= max_time_steps))
+      {
+        std::ostringstream message;
+        message << "'Time integration/End time' = " << parameters.end_time
+                << " s and 'Time integration/Time step' = ";
+        if (parameters.automatic_time_step)
+          message << "auto (" << selected_time_step << " s, "
+                  << parameters.time_step_safety_factor
+                  << " of the stable step bound)";
+        else
+          message << selected_time_step << " s";
+        message << " need " << steps << " steps; at most " << max_time_steps
+                << " are allowed: shorten the end time"
+                << (parameters.automatic_time_step ?
+                      " or the scene's stiffest part (penalty, modulus, "
+                      "refinement)" :
+                      " or lengthen the time step");
+        refuse(parameter_file, message.str());
+      }
+    TimeSteps result;
+    result.n_steps   = std::max<std::uint64_t>(1, steps);
+    result.time_step = parameters.end_time / result.n_steps;
+    // An end time that is a multiple of the step up to round-off keeps the
+    // step as selected (bit for bit).
+    if (std::abs(result.time_step - selected_time_step) <=
+        1e-12 * selected_time_step)
+      result.time_step = selected_time_step;
+    return result;
+  }
+
+
 
   double
   faces_across_contact_zone(const Scene &scene, const Parameters &parameters)

@@ -9,13 +9,29 @@
 #include <isoimpact/scene/parameters.h>
 #include <isoimpact/scene/scene.h>
 
+#include <cstdint>
 #include <fstream>
+#include <functional>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace isoimpact
 {
+  // Closes a written file; if any write failed (a full disk) removes it and
+  // throws std::runtime_error naming it (or `name`, if given).
+  void
+  close_and_check(std::ofstream     &out,
+                  const std::string &path,
+                  const std::string &name = "");
+
+  // Writes a file under path.tmp and renames it to path, so that the file
+  // is always either the old or the new complete one.
+  void
+  write_by_rename(const std::string                         &path,
+                  const std::function<void(std::ostream &)> &writer);
+
   class SolutionWriter
   {
   public:
@@ -38,7 +54,10 @@ namespace isoimpact
    * history.csv: a header that says the unit of every column, then one row
    * per call of write(). Contact force and energies are those of the full
    * bodies (the model's times the scene's symmetry factor); with an analytic
-   * reference, its force and maximal pressure follow.
+   * reference, its force and maximal pressure follow. Rows reach the file
+   * whole, at flush() (the program calls it at each progress line) and
+   * every 64 kB, so a killed run leaves only complete rows; a failed write
+   * throws std::runtime_error.
    */
   class HistoryWriter
   {
@@ -47,6 +66,10 @@ namespace isoimpact
                   const std::string &parameter_file,
                   const Parameters  &parameters,
                   const Scene       &scene);
+    ~HistoryWriter();
+
+    void
+    flush();
 
     // The contact force and pressure as reported (full bodies); the
     // energies of the model.
@@ -58,8 +81,11 @@ namespace isoimpact
           const EnergyBalance &energy);
 
   private:
-    const Scene  &scene;
-    std::ofstream out;
+    const Scene       &scene;
+    const std::string  path;
+    std::ofstream      out;
+    std::ostringstream rows;
+    std::uintmax_t     written = 0; // bytes of complete rows in the file
   };
 
   /**

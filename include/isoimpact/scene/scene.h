@@ -9,7 +9,10 @@
 #include <isoimpact/time_integration/central_difference.h>
 #include <isoimpact/time_integration/stability_monitor.h>
 
+#include <cstdint>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace isoimpact
@@ -43,6 +46,44 @@ namespace isoimpact
   // Throws InputError (or deal.II's exceptions for inadmissible lumping).
   Scene
   build_scene(const Parameters &parameters);
+
+  /**
+   * The checks of a scene that need more than one parameter at a time, done
+   * before anything is built (throw InputError naming the file, the
+   * parameters, their values and what is allowed):
+   * - the bodies do not overlap at t = 0 (they may touch), Body 1 does not
+   *   start inside a rigid plane or cylinder, nor the cylinder inside it;
+   * - with an analytic reference, the bodies (Body 1 and the plane or
+   *   cylinder) touch at t = 0 and close along the line of centres, and the
+   *   reference can describe the impact (closing speed below its limit);
+   * - the estimated memory of the meshes and matrices fits in the available
+   *   memory (MemAvailable of /proc/meminfo);
+   * - a given time step gives at most max_time_steps steps.
+   */
+  void
+  check_scene(const Parameters &parameters, const std::string &parameter_file);
+
+  // The estimated peak memory of a run, bytes, and its cells (all bodies).
+  std::pair<double, double>
+  estimated_memory_and_cells(const Parameters &parameters);
+
+  // The most steps a run may take.
+  constexpr double max_time_steps = 1e8;
+
+  // The steps of a run and the step that ends them exactly at End time: the
+  // selected step is shortened to End time / n, n = ceil(End time / step)
+  // (kept as it is if that differs from it by round-off only).
+  struct TimeSteps
+  {
+    std::uint64_t n_steps;
+    double        time_step;
+  };
+
+  // Throws InputError if more than max_time_steps steps are needed.
+  TimeSteps
+  time_steps_to_end(const Parameters  &parameters,
+                    const double       selected_time_step,
+                    const std::string &parameter_file);
 
   /**
    * How many faces of body 1's contact surface span the contact width 2a of
