@@ -689,9 +689,10 @@ namespace isoimpact
     if (!scene.reference)
       return 0.;
     const BodyGeometry &geometry = parameters.bodies[0].geometry;
-    // Body 1 moves along the impact direction into its partner.
+    // The impact direction is the partner's velocity relative to Body 1:
+    // the partner comes from -impact_direction, where Body 1 meets it.
     const Point<2> first_contact =
-      geometry.center + geometry.radius * scene.impact_direction;
+      geometry.center - geometry.radius * scene.impact_direction;
     const auto segments = scene.bodies[0]->discretization().boundary_segments(
       BodyGeometry::curved_boundary_id);
     std::vector<double> r, dr;
