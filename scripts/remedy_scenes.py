@@ -7,7 +7,9 @@ at the automatic stable step. Prints a markdown table of the measures of
 scripts/contact_measures.py and writes OUTPUT_DIR/remedy_scenes.csv.
 
 With --sweep instead: the benchmark scene only, for the damping ratios
-0, 0.05, 0.1, 0.2, 0.3, 0.5.
+0, 0.05, 0.1, 0.2, 0.3, 0.5. With --penalty-auto: the benchmark scene,
+undamped, with Contact/Penalty = auto at scale factors 0.1, 0.5, 1 (the
+damping_ratio column then holds the scale factor).
 
 usage: python3 scripts/remedy_scenes.py PROGRAM OUTPUT_DIR [DAMPING_RATIO | --sweep]"""
 import csv
@@ -47,9 +49,11 @@ def main():
         sys.exit(__doc__)
     program, work = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     sweep = "--sweep" in sys.argv
-    xi = sys.argv[3] if len(sys.argv) > 3 and not sweep else "0.2"
-    ratios = ["0", "0.05", "0.1", "0.2", "0.3", "0.5"] if sweep else ["0", xi]
-    scenes = {"benchmark": {}} if sweep else SCENES
+    penalty_auto = "--penalty-auto" in sys.argv
+    xi = sys.argv[3] if len(sys.argv) > 3 and not (sweep or penalty_auto) else "0.2"
+    ratios = ["0", "0.05", "0.1", "0.2", "0.3", "0.5"] if sweep else \
+        ["0.1", "0.5", "1"] if penalty_auto else ["0", xi]
+    scenes = {"benchmark": {}} if (sweep or penalty_auto) else SCENES
     os.makedirs(work, exist_ok=True)
     rows = []
     for scene, edits in scenes.items():
@@ -58,8 +62,11 @@ def main():
                 name = "".join(c if c.isalnum() else "_" for c in
                                f"{scene[:20]}_{method}_{damping}")
                 folder = os.path.join(work, name)
+                setting = {"Contact/Penalty": "auto", "Contact/Damping ratio": "0",
+                           "Contact/Penalty scale factor": damping} if penalty_auto \
+                    else {"Contact/Damping ratio": damping}
                 prm = edit_prm(os.path.join(ROOT, base), folder + ".prm", {
-                    **edits, "Contact/Damping ratio": damping,
+                    **edits, **setting,
                     "Time integration/Time step": "auto",
                     "Time integration/Allow time step above the stable estimate": "false",
                     "Output/Directory": folder, "Output/VTU interval": "0",
@@ -76,7 +83,8 @@ def main():
             "pressure_trend_peak_Pa", "gauss_pressure_trend_peak_Pa",
             "profile_rms_percent_p0", "energy_error_percent",
             "damping_work_percent", "contact_duration_s", "wall_time_s"]
-    with open(os.path.join(work, "remedy_sweep.csv" if sweep else "remedy_scenes.csv"),
+    with open(os.path.join(work, "remedy_sweep.csv" if sweep else "penalty_auto.csv"
+                           if penalty_auto else "remedy_scenes.csv"),
               "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
         writer.writeheader()

@@ -146,3 +146,10 @@ add_test(NAME output_robustness
     $<TARGET_FILE:isoimpact_program>
     ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm ${_work}/output_robustness)
 set_tests_properties(output_robustness PROPERTIES TIMEOUT 300)
+
+# Contact/Penalty = auto (issue 11) on the coarse meshes.
+add_test(NAME penalty_auto
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/penalty_auto.py
+    $<TARGET_FILE:isoimpact_program> ${CMAKE_CURRENT_SOURCE_DIR}/prm
+    ${_work}/penalty_auto)
+set_tests_properties(penalty_auto PROPERTIES TIMEOUT 600)

@@ -169,6 +169,23 @@ namespace isoimpact
   }
 
   template <int dim>
+  double
+  mean_surface_mass_density(const std::vector<BoundarySegment<dim>> &segments,
+                            const unsigned int                       n_points,
+                            const Vector<double> &nodal_masses)
+  {
+    const SurfaceNodes<dim> nodes(segments,
+                                  surface_quadrature(segments, n_points));
+    double                  mass = 0., area = 0.;
+    for (unsigned int k = 0; k < nodes.x_dof.size(); ++k)
+      {
+        mass += nodal_masses(nodes.x_dof[k]);
+        area += nodes.area[k];
+      }
+    return mass / area;
+  }
+
+  template <int dim>
   SurfaceMassDensity<dim>::SurfaceMassDensity(
     const SurfaceNodes<dim> &nodes,
     const Vector<double>    &nodal_masses)
@@ -697,6 +714,10 @@ namespace isoimpact
 
   template struct ContactResult<2>;
   template class SurfaceNodes<2>;
+  template double
+  mean_surface_mass_density(const std::vector<BoundarySegment<2>> &,
+                            const unsigned int,
+                            const Vector<double> &);
   template class SurfaceMassDensity<2>;
   template void
   add_surface_pressure(const SurfaceNodes<2> &,

@@ -285,8 +285,19 @@ namespace isoimpact
     prm.enter_subsection("Contact");
     prm.declare_entry("Penalty",
                       "1e5",
+                      PositiveNumberOrAuto(),
+                      "eps_N, Pa/m: traction per unit penetration (> 0), or "
+                      "auto: Penalty scale factor times mu / dt^2, mu the "
+                      "contact surfaces' mean mass per length (reduced for "
+                      "two bodies), dt the stable step bound without "
+                      "contact. auto also sets Obstacle/Penalty.");
+    prm.declare_entry("Penalty scale factor",
+                      "0.5",
                       Patterns::Double(0.),
-                      "eps_N, Pa/m: traction per unit penetration (> 0).");
+                      "s of Penalty = auto (> 0): the contact mode then has "
+                      "omega_c dt_bulk = sqrt(s). The benchmark's 1e5 Pa/m "
+                      "is s = 2.8 (FEA Q9 HRZ) and 7.4 (IGA p2 HRZ) on its "
+                      "level-4 mesh (doc/formulation.md).");
     prm.declare_entry("Penalty per pass",
                       "half",
                       Patterns::Selection(penalty_per_pass_names.selection()),
@@ -496,7 +507,9 @@ namespace isoimpact
     prm.leave_subsection();
 
     prm.enter_subsection("Contact");
-    contact.penalty = prm.get_double("Penalty");
+    automatic_penalty    = prm.get("Penalty") == "auto";
+    contact.penalty      = automatic_penalty ? 0. : prm.get_double("Penalty");
+    penalty_scale_factor = prm.get_double("Penalty scale factor");
     contact.penalty_per_pass =
       penalty_per_pass_names.from_string(prm.get("Penalty per pass"));
     contact.n_quadrature_points = prm.get_integer("Quadrature points per face");
@@ -627,7 +640,8 @@ namespace isoimpact
                     body.geometry.upper_right[d],
                     "each coordinate must exceed the lower left corner's");
       }
-    if (!parameters.obstacle.active()) // else not used
+    if (!parameters.obstacle.active() &&
+        !parameters.automatic_penalty) // else not used
       require(parameters.contact.penalty > 0.,
               "Contact/Penalty",
               parameters.contact.penalty,
@@ -674,7 +688,7 @@ namespace isoimpact
               "Obstacle/Radius",
               obstacle.radius,
               "it must be positive");
-    if (obstacle.active())
+    if (obstacle.active() && !parameters.automatic_penalty)
       require(obstacle.penalty > 0.,
               "Obstacle/Penalty",
               obstacle.penalty,
@@ -783,12 +797,19 @@ namespace isoimpact
                "Discretization/Refinement radius",
                "m");
       }
-    if (!parameters.obstacle.active())
+    if (parameters.automatic_penalty)
+      within(parameters.penalty_scale_factor,
+             1e-6,
+             1e6,
+             "Contact/Penalty scale factor",
+             "");
+    else if (!parameters.obstacle.active())
       within(parameters.contact.penalty, 1e-6, 1e20, "Contact/Penalty", "Pa/m");
     if (parameters.obstacle.active())
       {
         const auto &obstacle = parameters.obstacle;
-        within(obstacle.penalty, 1e-6, 1e20, "Obstacle/Penalty", "Pa/m");
+        if (!parameters.automatic_penalty)
+          within(obstacle.penalty, 1e-6, 1e20, "Obstacle/Penalty", "Pa/m");
         if (obstacle.type == "cylinder")
           {
             within(obstacle.radius, 1e-9, 1e9, "Obstacle/Radius", "m");

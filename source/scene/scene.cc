@@ -1,5 +1,6 @@
 // Layer 6: building a scene.
 #include <isoimpact/mechanics/assembly.h>
+#include <isoimpact/mechanics/stable_time_step.h>
 #include <isoimpact/scene/scene.h>
 
 #include <algorithm>
@@ -426,7 +427,50 @@ namespace isoimpact
           body.initial_velocity));
       }
 
+    // The surface masses: the lumped masses in use, or HRZ's for a
+    // consistent mass. The contact damping and Penalty = auto need them.
+    std::vector<Vector<double>> masses;
+    if (parameters.contact.damping_ratio > 0. || parameters.automatic_penalty)
+      for (const auto &body : scene.bodies)
+        masses.push_back(body->lumped_masses().size() > 0 ?
+                           body->lumped_masses() :
+                           assemble_lumped_mass(body->discretization(),
+                                                body->material().density,
+                                                MassScheme::hrz,
+                                                body->constraints()));
     // Contact is searched only on the declared surfaces: the arcs.
+    std::vector<std::vector<BoundarySegment<2>>> surfaces;
+    for (const auto &body : scene.bodies)
+      surfaces.push_back(body->discretization().boundary_segments(
+        BodyGeometry::curved_boundary_id));
+
+    // Penalty = auto: k = s mu / dt^2 (the surfaces' mean mass per length,
+    // reduced for two bodies; dt the bodies' stable step bound without
+    // contact), so that the contact mode has omega_c dt = sqrt(s) whatever
+    // the mesh and the material.
+    double automatic_penalty = 0.;
+    if (parameters.automatic_penalty)
+      {
+        double bulk_step  = std::numeric_limits<double>::infinity();
+        double inverse_mu = 0.;
+        for (unsigned int b = 0; b < scene.bodies.size(); ++b)
+          {
+            // The bound where one applies, else the power estimate.
+            const StableTimeStep step =
+              compute_stable_time_step(*scene.bodies[b], {});
+            bulk_step =
+              std::min(bulk_step,
+                       step.bound() > 0. ? step.bound() : step.power_estimate);
+            inverse_mu +=
+              1. /
+              mean_surface_mass_density(surfaces[b],
+                                        parameters.contact.n_quadrature_points,
+                                        masses[b]);
+          }
+        automatic_penalty = parameters.penalty_scale_factor / inverse_mu /
+                            (bulk_step * bulk_step);
+      }
+
     const auto        &obstacle = parameters.obstacle;
     const Tensor<1, 2> relative = relative_velocity(parameters);
     if (obstacle.active())
@@ -442,53 +486,42 @@ namespace isoimpact
           rigid.push_back(
             RigidObstacle<2>::plane(obstacle.opposite_point, -obstacle.normal));
         ObstacleContactSettings settings;
-        settings.penalty             = obstacle.penalty;
+        settings.penalty =
+          parameters.automatic_penalty ? automatic_penalty : obstacle.penalty;
         settings.n_quadrature_points = parameters.contact.n_quadrature_points;
         settings.damping_ratio       = parameters.contact.damping_ratio;
         for (const auto &wall : rigid)
           {
-            scene.contacts.push_back(std::make_unique<RigidObstacleContact<2>>(
-              settings,
-              wall,
-              scene.bodies[0]->discretization().boundary_segments(
-                BodyGeometry::curved_boundary_id)));
+            scene.contacts.push_back(
+              std::make_unique<RigidObstacleContact<2>>(settings,
+                                                        wall,
+                                                        surfaces[0]));
             scene.interactions.push_back({scene.contacts.back().get(), 0});
           }
       }
     else
       {
-        scene.contacts.push_back(std::make_unique<PenaltyContact<2>>(
-          parameters.contact,
-          scene.bodies[0]->discretization().boundary_segments(
-            BodyGeometry::curved_boundary_id),
-          scene.bodies[1]->discretization().boundary_segments(
-            BodyGeometry::curved_boundary_id)));
+        ContactSettings settings = parameters.contact;
+        if (parameters.automatic_penalty)
+          settings.penalty = automatic_penalty;
+        scene.contacts.push_back(
+          std::make_unique<PenaltyContact<2>>(settings,
+                                              surfaces[0],
+                                              surfaces[1]));
         scene.interactions.push_back({scene.contacts.back().get(), 0, 1});
       }
 
-    // The contact damping scales with the surface mass: the lumped masses
-    // in use, or HRZ's for a consistent mass.
     if (parameters.contact.damping_ratio > 0.)
-      {
-        std::vector<Vector<double>> masses;
-        for (const auto &body : scene.bodies)
-          masses.push_back(body->lumped_masses().size() > 0 ?
-                             body->lumped_masses() :
-                             assemble_lumped_mass(body->discretization(),
-                                                  body->material().density,
-                                                  MassScheme::hrz,
-                                                  body->constraints()));
-        // scene.contacts[c] is the model of scene.interactions[c].
-        for (unsigned int c = 0; c < scene.contacts.size(); ++c)
-          {
-            const auto &interaction = scene.interactions[c];
-            std::vector<const Vector<double> *> model_masses = {
-              &masses[interaction.first_body]};
-            if (interaction.contact->n_bodies() == 2)
-              model_masses.push_back(&masses[interaction.second_body]);
-            scene.contacts[c]->set_surface_masses(model_masses);
-          }
-      }
+      // scene.contacts[c] is the model of scene.interactions[c].
+      for (unsigned int c = 0; c < scene.contacts.size(); ++c)
+        {
+          const auto &interaction = scene.interactions[c];
+          std::vector<const Vector<double> *> model_masses = {
+            &masses[interaction.first_body]};
+          if (interaction.contact->n_bodies() == 2)
+            model_masses.push_back(&masses[interaction.second_body]);
+          scene.contacts[c]->set_surface_masses(model_masses);
+        }
 
     if (relative.norm() > 0.)
       scene.impact_direction = relative / relative.norm();

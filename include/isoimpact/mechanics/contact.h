@@ -238,6 +238,18 @@ namespace isoimpact
                        ContactResult<dim>        &result);
 
   /**
+   * The mean mass per unit reference length of a contact surface, sum_k m_k
+   * / sum_k a_k over its nodes (kg/m^2 per unit thickness), with the lumped
+   * nodal masses of its body (per unknown, the x component is read) and
+   * n_points Gauss points per segment.
+   */
+  template <int dim>
+  double
+  mean_surface_mass_density(const std::vector<BoundarySegment<dim>> &segments,
+                            const unsigned int                       n_points,
+                            const dealii::Vector<double> &nodal_masses);
+
+  /**
    * Velocity sum_k R_k v_k of a point of `segment` where its nodal functions
    * take `shape_values`.
    */

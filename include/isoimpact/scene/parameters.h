@@ -74,6 +74,10 @@ namespace isoimpact
 
     MassScheme      mass_scheme = MassScheme::hrz;
     ContactSettings contact;
+    // Penalty = auto (Contact/Penalty, and Obstacle/Penalty for an
+    // obstacle): k = penalty_scale_factor mu / dt^2 (scene.cc).
+    bool   automatic_penalty    = false;
+    double penalty_scale_factor = 0.5;
 
     // Time integration. With automatic_time_step the step is the safety
     // factor times the guaranteed stable step bound with contact
