@@ -219,6 +219,18 @@ namespace isoimpact
   }
 
   template <int dim>
+  double
+  ContactResult<dim>::damp(const double pressure,
+                           const double damping,
+                           const double gap_rate,
+                           const double weight)
+  {
+    const double damped = std::max(0., pressure - damping * gap_rate);
+    damping_power += (pressure - damped) * gap_rate * weight;
+    return damped;
+  }
+
+  template <int dim>
   void
   ContactResult<dim>::add_active_point(
     const double          gauss_point_pressure,
@@ -676,12 +688,8 @@ namespace isoimpact
                                   *velocities[body]) -
                    point_velocity(other_segment, r, *velocities[other])) *
                   projection.normal;
-                // No adhesion: the damping may lower the pressure to zero.
-                const double damped_pressure =
-                  std::max(0., pressure - damping * gap_rate);
-                result.damping_power +=
-                  (pressure - damped_pressure) * gap_rate * point.weight;
-                pressure = damped_pressure;
+                pressure =
+                  result.damp(pressure, damping, gap_rate, point.weight);
               }
             const Tensor<1, dim> force = add_contact_traction(segment,
                                                               point,

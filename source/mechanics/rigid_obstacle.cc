@@ -169,11 +169,7 @@ namespace isoimpact
               std::sqrt(eps * mass_density(point.segment, point.shape_values));
             const double gap_rate =
               point_velocity(segment, point.shape_values, *velocities[0]) * n;
-            const double damped_pressure =
-              std::max(0., pressure - damping * gap_rate);
-            result.damping_power +=
-              (pressure - damped_pressure) * gap_rate * point.weight;
-            pressure = damped_pressure;
+            pressure = result.damp(pressure, damping, gap_rate, point.weight);
           }
         const Tensor<1, dim> force = pressure * point.weight * n;
         distribute_point_force(segment, point.shape_values, force, *forces[0]);

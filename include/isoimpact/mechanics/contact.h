@@ -82,6 +82,15 @@ namespace isoimpact
     unsigned int                   n_active_points = 0;
     std::vector<ContactPoint<dim>> points;
 
+    // The elastic pressure less the contact damping c dg/dt, down to zero
+    // (no adhesion); adds the power the damping removes at a point of
+    // weight w, (pressure - damped) dg/dt w, to damping_power.
+    double
+    damp(const double pressure,
+         const double damping,
+         const double gap_rate,
+         const double weight);
+
     // Counts an active Gauss point: adds its penalty energy and its force on
     // body 0, updates the maximal Gauss-point pressure and penetration.
     void
