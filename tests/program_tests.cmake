@@ -153,3 +153,10 @@ add_test(NAME penalty_auto
     $<TARGET_FILE:isoimpact_program> ${CMAKE_CURRENT_SOURCE_DIR}/prm
     ${_work}/penalty_auto)
 set_tests_properties(penalty_auto PROPERTIES TIMEOUT 600)
+
+# The coarse trade-off sweep (issue 12): errors fall with cost.
+add_test(NAME tradeoff_front
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/tradeoff_front.py
+    $<TARGET_FILE:isoimpact_program> ${CMAKE_SOURCE_DIR}/scripts/tradeoff_study.py
+    ${_work}/tradeoff_front)
+set_tests_properties(tradeoff_front PROPERTIES TIMEOUT 600)
