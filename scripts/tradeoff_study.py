@@ -21,7 +21,8 @@ Per run: unknowns, time step, steps, wall time of the time loop, peak memory
 Writes OUTPUT_DIR/tradeoff.csv, OUTPUT_DIR/tradeoff.md (the table, the
 Pareto fronts' members and the advice) and OUTPUT_DIR/fig_pareto.png (one
 panel per error measure against the time-loop wall time, the non-dominated
-runs marked). A run the program refuses (e.g. row-sum with Q8: negative
+runs marked); with a single level also OUTPUT_DIR/fig_remedies.png (the
+remedies side by side per family and mass scheme). A run the program refuses (e.g. row-sum with Q8: negative
 corner masses) is listed with its status and left out of the fronts.
 
 usage: python3 scripts/tradeoff_study.py PROGRAM OUTPUT_DIR
@@ -328,6 +329,42 @@ def plot(rows, front, path):
     fig.savefig(path, dpi=90)
 
 
+def plot_remedies(rows, path):
+    """One level: the remedies side by side for every family and mass
+    scheme (chatter, pressure errors, step cost against plain HRZ)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    done = [r for r in rows if r.get("status") == "completed"]
+    groups = sorted({(r["family"], r["mass"]) for r in done})
+    remedies = sorted({r["remedy"] for r in done}, key=list(REMEDIES).index)
+    panels = [("force_chatter_percent", "force chatter (%)", 3.0),
+              ("pressure_peak_error_percent", "max-pressure trend peak error (%)", 10.0),
+              ("profile_rms_percent_p0", "pressure profile RMS (% of p0)", 10.0),
+              ("step_cost_vs_plain_hrz", "cost per step / plain HRZ", 1.5)]
+    fig, axes = plt.subplots(len(panels), 1, figsize=(max(8, 1.1 * len(groups)), 11), sharex=True)
+    width = 0.8 / max(1, len(remedies))
+    for ax, (column, label, target) in zip(axes, panels):
+        for k, remedy in enumerate(remedies):
+            values = []
+            for g in groups:
+                match = [r for r in done if (r["family"], r["mass"]) == g and r["remedy"] == remedy]
+                values.append(match[0].get(column) if match and match[0].get(column) is not None
+                              else float("nan"))
+            ax.bar([i + (k - (len(remedies) - 1) / 2) * width for i in range(len(groups))],
+                   values, width, label=remedy)
+        ax.axhline(target, color="k", ls="--", lw=1)
+        ax.set_ylabel(label)
+        ax.set_yscale("log")
+        ax.grid(True, axis="y", which="both", alpha=0.3)
+    axes[0].legend(ncol=len(remedies))
+    axes[-1].set_xticks(range(len(groups)))
+    axes[-1].set_xticklabels([f"{f}\n{m}" for f, m in groups])
+    axes[0].set_title(f"level {done[0]['level']}: remedies (dashed: the issue's targets)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+
+
 def fmt(value, digits=3):
     if value is None:
         return "-"
@@ -365,7 +402,8 @@ def write_markdown(rows, front, path, command):
             f"{describe(r)} {fmt(r['time_loop_s'])} s, {fmt(r[column])}" for r in front[column]))
     lines += ["", "## All runs", ""]
     shown = ["level", "family", "mass", "remedy", "unknowns", "time_step_s", "steps", "time_loop_s",
-             "peak_memory_MB", "step_cost_vs_plain_hrz", "force_peak_error_percent",
+             "peak_memory_MB", "step_cost_vs_plain_hrz", "force_trend_peak_N_per_m",
+             "pressure_trend_peak_Pa", "contact_duration_s", "force_peak_error_percent",
              "duration_error_percent", "force_l2_error_percent", "pressure_peak_error_percent",
              "profile_rms_percent_p0", "force_chatter_percent", "energy_error_percent",
              "force_peak_vs_finest_percent", "pressure_peak_vs_finest_percent"]
@@ -413,6 +451,8 @@ def main():
         writer.writerows(rows)
     front = fronts(rows)
     plot(rows, front, os.path.join(work, "fig_pareto.png"))
+    if len(args.levels) == 1:
+        plot_remedies(rows, os.path.join(work, "fig_remedies.png"))
     command = "python3 scripts/tradeoff_study.py build/isoimpact OUT " + " ".join(sys.argv[3:])
     write_markdown(rows, front, os.path.join(work, "tradeoff.md"), command.strip())
     print(open(os.path.join(work, "tradeoff.md")).read())
