@@ -110,12 +110,10 @@ def run(program, work, level, family, mass, remedy, end_time):
 
 
 def time_loop_seconds(summary):
-    """The time loop's wall time: summary.json's wall_time_s.time_loop where
-    the program reports the parts, else the whole run's wall time."""
-    wall = summary.get("wall_time_s")
-    if isinstance(wall, dict):
-        return float(wall.get("time_loop", wall.get("total")))
-    return float(wall)
+    """The time loop's wall time: summary.json's wall_time_parts_s.time_loop
+    where the program reports the parts, else the whole run's wall time."""
+    parts = summary.get("wall_time_parts_s")
+    return float(parts["time_loop"] if parts else summary["wall_time_s"])
 
 
 def trend_of(history):
