@@ -117,6 +117,27 @@ namespace isoimpact
     std::uint64_t                         n_steps            = 0;
     unsigned int                          next_profile       = 0;
     Timer                                 wall_clock;
+    // For summary.json: the whole run (from the constructor) and its parts,
+    // accumulated over the laps of a Lap.
+    Timer total_clock, setup_clock, loop_clock, output_clock;
+  };
+
+  // Adds the wall time of its scope to a stopped Timer.
+  class Lap
+  {
+  public:
+    explicit Lap(Timer &clock)
+      : clock(clock)
+    {
+      clock.start();
+    }
+    ~Lap()
+    {
+      clock.stop();
+    }
+
+  private:
+    Timer &clock;
   };
 
 
@@ -133,7 +154,10 @@ namespace isoimpact
     , parameter_file(parameter_file)
     , pcout(std::cout, true)
     , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
-  {}
+  {
+    for (Timer *clock : {&setup_clock, &loop_clock, &output_clock})
+      clock->reset(); // started by their constructors
+  }
 
 
 
@@ -228,7 +252,9 @@ namespace isoimpact
       directory + "/parameters.prm",
       std::filesystem::copy_options::overwrite_existing);
     solution_writer =
-      std::make_unique<SolutionWriter>(directory, parameters.vtu_subdivisions);
+      std::make_unique<SolutionWriter>(directory,
+                                       parameters.vtu_subdivisions,
+                                       parameters.vtu_higher_order);
     history = std::make_unique<HistoryWriter>(directory + "/history.csv",
                                               parameter_file,
                                               parameters,
@@ -307,7 +333,10 @@ namespace isoimpact
     if (write_solution)
       {
         TimerOutput::Scope scope(timer, "output: ParaView");
-        solution_writer->write(scene.body_pointers(), step.time);
+        solution_writer->write(
+          scene.body_pointers(),
+          step.time,
+          contact_pressure_nodal_values(scene, integrator->contact_results()));
       }
     // The pressure along the contact surface at a requested time.
     if (write_profile)
@@ -368,6 +397,7 @@ namespace isoimpact
   ImpactProgram::run()
   {
     {
+      const Lap          lap(setup_clock);
       TimerOutput::Scope scope(timer, "set-up: meshes, matrices, contact");
       check_scene(parameters, parameter_file);
       scene              = build_scene(parameters);
@@ -388,7 +418,10 @@ namespace isoimpact
                                                           time_step);
     }
     print_setup();
-    open_output();
+    {
+      const Lap lap(output_clock);
+      open_output();
+    }
 
     wall_clock.restart();
     const auto is_vtu_step = [&](const std::uint64_t step) {
@@ -402,14 +435,19 @@ namespace isoimpact
                parameters.profile_times[next_profile] - 1e-12;
     };
 
-    integrator->initialize(true);
+    {
+      const Lap lap(loop_clock);
+      integrator->initialize(true);
+    }
+    output_clock.start();
     StabilityLimits limits;
     limits.input_energy            = integrator->energy_balance().total();
     limits.energy_growth_tolerance = parameters.energy_growth_tolerance;
     limits.maximum_penetration =
       parameters.maximum_penetration * parameters.smallest_body_size();
     monitor = std::make_unique<StabilityMonitor<2>>(*integrator, limits);
-    std::string         failure = record(is_vtu_step(0), false);
+    std::string failure = record(is_vtu_step(0), false);
+    output_clock.stop();
     const std::uint64_t progress_every =
       std::max<std::uint64_t>(1, n_steps * parameters.progress_interval / 100.);
     for (std::uint64_t step = 1; step <= n_steps && failure.empty(); ++step)
@@ -419,23 +457,30 @@ namespace isoimpact
           next_profile < parameters.profile_times.size() &&
           next_time >= parameters.profile_times[next_profile] - 1e-12;
         {
+          const Lap          lap(loop_clock);
           TimerOutput::Scope scope(timer, "time steps");
-          integrator->advance(profile);
+          // The contact points and nodal pressures for the profile and
+          // the ParaView output.
+          integrator->advance(profile || is_vtu_step(step));
           failure = monitor->check();
         }
         if (!failure.empty())
           break;
         {
+          const Lap          lap(output_clock);
           TimerOutput::Scope scope(timer, "output: history and profiles");
           failure = record(is_vtu_step(step), profile_due());
           while (profile_due())
             ++next_profile;
+          if (step % progress_every == 0 || step == n_steps)
+            print_progress();
         }
-        if (step % progress_every == 0 || step == n_steps)
-          print_progress();
       }
-    history->flush();
-    history.reset(); // closes history.csv
+    {
+      const Lap lap(output_clock);
+      history->flush();
+      history.reset(); // closes history.csv
+    }
 
     // summary.json holds the figures a user compares between runs: peaks,
     // duration, their errors against the analytic reference, cost and the
@@ -445,10 +490,14 @@ namespace isoimpact
     // stability monitor gets one too, with "status": "unstable", the reason,
     // and the figures of the steps before the instability.
     RunFacts facts;
-    facts.time_step = time_step;
-    facts.stable    = stable;
-    facts.n_steps   = integrator->step_number();
-    facts.wall_time = wall_clock.wall_time();
+    facts.time_step           = time_step;
+    facts.stable              = stable;
+    facts.n_steps             = integrator->step_number();
+    facts.wall_time           = wall_clock.wall_time();
+    facts.setup_wall_time     = setup_clock.wall_time();
+    facts.time_loop_wall_time = loop_clock.wall_time();
+    facts.output_wall_time    = output_clock.wall_time();
+    facts.total_wall_time     = total_clock.wall_time();
     if (!failure.empty())
       {
         facts.status      = "unstable";
