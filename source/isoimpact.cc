@@ -57,11 +57,13 @@
 #include <isoimpact/scene/scene.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <regex>
 #include <sstream>
 
@@ -103,7 +105,6 @@ namespace isoimpact
     const std::string parameter_file;
 
     ConditionalOStream pcout;
-    TimerOutput        timer;
 
     Scene                                 scene;
     std::unique_ptr<CentralDifference<2>> integrator;
@@ -117,27 +118,34 @@ namespace isoimpact
     std::uint64_t                         n_steps            = 0;
     unsigned int                          next_profile       = 0;
     Timer                                 wall_clock;
-    // For summary.json: the whole run (from the constructor) and its parts,
-    // accumulated over the laps of a Lap.
-    Timer total_clock, setup_clock, loop_clock, output_clock;
+    // For summary.json: the parts of the run's wall time (s), accumulated
+    // by Laps, and the start of the run (the constructor).
+    double setup_time = 0., loop_time = 0., output_time = 0.,
+           paraview_time = 0.;
+    const std::chrono::steady_clock::time_point start_of_run =
+      std::chrono::steady_clock::now();
   };
 
-  // Adds the wall time of its scope to a stopped Timer.
+  // Adds the wall time of its scope to `seconds`. std::chrono: deal.II's
+  // Timer and TimerOutput reduce over MPI at every stop, which cost more
+  // than a time step on a loaded machine.
   class Lap
   {
   public:
-    explicit Lap(Timer &clock)
-      : clock(clock)
-    {
-      clock.start();
-    }
+    explicit Lap(double &seconds)
+      : seconds(seconds)
+      , start(std::chrono::steady_clock::now())
+    {}
     ~Lap()
     {
-      clock.stop();
+      seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
     }
 
   private:
-    Timer &clock;
+    double                                     &seconds;
+    const std::chrono::steady_clock::time_point start;
   };
 
 
@@ -153,11 +161,7 @@ namespace isoimpact
     : parameters(parameters)
     , parameter_file(parameter_file)
     , pcout(std::cout, true)
-    , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
-  {
-    for (Timer *clock : {&setup_clock, &loop_clock, &output_clock})
-      clock->reset(); // started by their constructors
-  }
+  {}
 
 
 
@@ -332,7 +336,7 @@ namespace isoimpact
 
     if (write_solution)
       {
-        TimerOutput::Scope scope(timer, "output: ParaView");
+        const Lap lap(paraview_time);
         solution_writer->write(
           scene.body_pointers(),
           step.time,
@@ -397,8 +401,7 @@ namespace isoimpact
   ImpactProgram::run()
   {
     {
-      const Lap          lap(setup_clock);
-      TimerOutput::Scope scope(timer, "set-up: meshes, matrices, contact");
+      const Lap lap(setup_time);
       check_scene(parameters, parameter_file);
       scene              = build_scene(parameters);
       stable             = scene_stable_time_step(scene.body_pointers(),
@@ -419,7 +422,7 @@ namespace isoimpact
     }
     print_setup();
     {
-      const Lap lap(output_clock);
+      const Lap lap(output_time);
       open_output();
     }
 
@@ -436,18 +439,18 @@ namespace isoimpact
     };
 
     {
-      const Lap lap(loop_clock);
+      const Lap lap(loop_time);
       integrator->initialize(true);
     }
-    output_clock.start();
-    StabilityLimits limits;
+    std::optional<Lap> first_record(std::in_place, output_time);
+    StabilityLimits    limits;
     limits.input_energy            = integrator->energy_balance().total();
     limits.energy_growth_tolerance = parameters.energy_growth_tolerance;
     limits.maximum_penetration =
       parameters.maximum_penetration * parameters.smallest_body_size();
     monitor = std::make_unique<StabilityMonitor<2>>(*integrator, limits);
     std::string failure = record(is_vtu_step(0), false);
-    output_clock.stop();
+    first_record.reset();
     const std::uint64_t progress_every =
       std::max<std::uint64_t>(1, n_steps * parameters.progress_interval / 100.);
     for (std::uint64_t step = 1; step <= n_steps && failure.empty(); ++step)
@@ -457,8 +460,7 @@ namespace isoimpact
           next_profile < parameters.profile_times.size() &&
           next_time >= parameters.profile_times[next_profile] - 1e-12;
         {
-          const Lap          lap(loop_clock);
-          TimerOutput::Scope scope(timer, "time steps");
+          const Lap lap(loop_time);
           // The contact points and nodal pressures for the profile and
           // the ParaView output.
           integrator->advance(profile || is_vtu_step(step));
@@ -467,8 +469,7 @@ namespace isoimpact
         if (!failure.empty())
           break;
         {
-          const Lap          lap(output_clock);
-          TimerOutput::Scope scope(timer, "output: history and profiles");
+          const Lap lap(output_time);
           failure = record(is_vtu_step(step), profile_due());
           while (profile_due())
             ++next_profile;
@@ -477,7 +478,7 @@ namespace isoimpact
         }
       }
     {
-      const Lap lap(output_clock);
+      const Lap lap(output_time);
       history->flush();
       history.reset(); // closes history.csv
     }
@@ -494,10 +495,12 @@ namespace isoimpact
     facts.stable              = stable;
     facts.n_steps             = integrator->step_number();
     facts.wall_time           = wall_clock.wall_time();
-    facts.setup_wall_time     = setup_clock.wall_time();
-    facts.time_loop_wall_time = loop_clock.wall_time();
-    facts.output_wall_time    = output_clock.wall_time();
-    facts.total_wall_time     = total_clock.wall_time();
+    facts.setup_wall_time     = setup_time;
+    facts.time_loop_wall_time = loop_time;
+    facts.output_wall_time    = output_time;
+    facts.total_wall_time     = std::chrono::duration<double>(
+                              std::chrono::steady_clock::now() - start_of_run)
+                              .count();
     if (!failure.empty())
       {
         facts.status      = "unstable";
@@ -525,7 +528,10 @@ namespace isoimpact
           << "  results: " << parameters.output_directory
           << "/{history.csv,summary.json,solution.pvd,contact_pressure_*.csv}"
           << std::endl;
-    timer.print_summary();
+    pcout << "  wall time: set-up " << setup_time << " s, time steps "
+          << loop_time << " s, output " << output_time << " s (ParaView "
+          << paraview_time << " s), total " << facts.total_wall_time
+          << " s (summary.json: wall_time_parts_s)" << std::endl;
     return 0;
   }
 } // namespace isoimpact
