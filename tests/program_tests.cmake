@@ -24,6 +24,28 @@ add_test(NAME vtu_readback
     ${_work}/hertz_fea_hrz_coarse)
 set_tests_properties(vtu_readback PROPERTIES FIXTURES_REQUIRED hertz_output)
 
+# The parts of the wall time in summary.json add up to the total.
+add_test(NAME summary_wall_time
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/summary_wall_time.py
+    ${_work}/hertz_fea_hrz_coarse)
+set_tests_properties(summary_wall_time PROPERTIES FIXTURES_REQUIRED hertz_output)
+
+# Higher-order VTU cells read back with VTK: rational Bezier arcs exact to
+# 1e-12, quadratic Lagrange arcs within their interpolation bound.
+add_test(NAME vtu_higher_order
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/vtu_higher_order.py
+    $<TARGET_FILE:isoimpact_program> ${CMAKE_CURRENT_SOURCE_DIR}/prm
+    ${_work}/vtu_higher_order)
+set_tests_properties(vtu_higher_order PROPERTIES TIMEOUT 300)
+
+# The contact pressure field of the ParaView output equals the consistent
+# pressure of the profile CSV at its Gauss points (issue 11).
+add_test(NAME vtu_contact_pressure
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/vtu_contact_pressure.py
+    $<TARGET_FILE:isoimpact_program> ${CMAKE_CURRENT_SOURCE_DIR}/prm
+    ${_work}/vtu_contact_pressure)
+set_tests_properties(vtu_contact_pressure PROPERTIES TIMEOUT 300)
+
 # The filtered peaks of summary.json against the Python filter applied to
 # history.csv (the fixture's run writes every step: History interval = 1).
 add_test(NAME filtered_peak_summary_vs_history

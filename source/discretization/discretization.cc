@@ -1,6 +1,7 @@
 // Layer 3: what FEA and IGA share: the base class, the coarse mesh and the
 // factory.
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
 
 #include <deal.II/grid/grid_generator.h>
 
@@ -54,6 +55,39 @@ namespace isoimpact
                              unmarked_boundary_segments(
                                BodyGeometry::symmetry_boundary_id));
     return segments;
+  }
+
+  template <int dim>
+  HigherOrderCell
+  Discretization<dim>::higher_order_cell(const cell_iterator &) const
+  {
+    HigherOrderCell cell;
+    cell.degree = vector_fe.degree;
+    cell.weights.assign(Utilities::pow(cell.degree + 1, dim), 1.);
+    return cell;
+  }
+
+  std::vector<Point<2>>
+  vtk_node_points(const unsigned int degree)
+  {
+    AssertThrow(degree >= 1, ExcMessage("a VTK cell needs degree >= 1"));
+    const double          p      = degree;
+    std::vector<Point<2>> points = {Point<2>(0., 0.),
+                                    Point<2>(1., 0.),
+                                    Point<2>(1., 1.),
+                                    Point<2>(0., 1.)};
+    for (unsigned int i = 1; i < degree; ++i) // edge 0: y = 0
+      points.emplace_back(i / p, 0.);
+    for (unsigned int j = 1; j < degree; ++j) // edge 1: x = 1
+      points.emplace_back(1., j / p);
+    for (unsigned int i = 1; i < degree; ++i) // edge 2: y = 1
+      points.emplace_back(i / p, 1.);
+    for (unsigned int j = 1; j < degree; ++j) // edge 3: x = 0
+      points.emplace_back(0., j / p);
+    for (unsigned int j = 1; j < degree; ++j)
+      for (unsigned int i = 1; i < degree; ++i)
+        points.emplace_back(i / p, j / p);
+    return points;
   }
 
   template <int dim>

@@ -312,6 +312,69 @@ namespace isoimpact
   }
 
   template <int dim>
+  HigherOrderCell
+  DiscretizationIGA<dim>::higher_order_cell(const cell_iterator &cell) const
+  {
+    AssertThrow(dim == 2,
+                ExcMessage("higher-order VTK cells are implemented for "
+                           "dim = 2"));
+    if (bezier_cells.empty())
+      {
+        const unsigned int p = patches().degree(0);
+        for (unsigned int d = 1; d < dim; ++d)
+          AssertThrow(patches().degree(d) == p,
+                      ExcMessage("Bezier output needs equal degrees in all "
+                                 "directions"));
+        const auto                nodes = vtk_node_points(p);
+        const unsigned int        n     = nodes.size();
+        std::vector<unsigned int> bernstein(n); // lexicographic index
+        for (unsigned int j = 0; j < n; ++j)
+          bernstein[j] = std::lround(nodes[j][0] * p) +
+                         (p + 1) * std::lround(nodes[j][1] * p);
+        // B_b(x_k), lexicographic b.
+        FullMatrix<double>  B(n, n);
+        std::vector<double> b0(p + 1), b1(p + 1);
+        for (unsigned int k = 0; k < n; ++k)
+          {
+            nurbs::KnotVector::bernstein_values(p, nodes[k][0], b0.data());
+            nurbs::KnotVector::bernstein_values(p, nodes[k][1], b1.data());
+            for (unsigned int b = 0; b < n; ++b)
+              B(k, b) = b0[b % (p + 1)] * b1[b / (p + 1)];
+          }
+        bezier_cells.resize(patches().n_elements());
+        for (unsigned int e = 0; e < patches().n_elements(); ++e)
+          {
+            const auto [patch_number, element] = patches().local_element(e);
+            const auto      &patch             = patches().patch(patch_number);
+            const auto       C = patch.element_extraction_operator(element);
+            const auto       indices = patch.element_control_points(element);
+            HigherOrderCell &result  = bezier_cells[e];
+            result.vtk_type          = HigherOrderCell::bezier_quadrilateral;
+            result.degree            = p;
+            result.weights.assign(n, 0.);
+            // w_b = sum_a C(a, b) w_a, in VTK's node order.
+            for (unsigned int j = 0; j < n; ++j)
+              for (unsigned int a = 0; a < n; ++a)
+                result.weights[j] +=
+                  C(a, bernstein[j]) * patch.weights()[indices[a]];
+            // A(k, j) = w_j B_j(x_k) / W(x_k); values_to_nodes = A^-1.
+            FullMatrix<double> A(n, n);
+            for (unsigned int k = 0; k < n; ++k)
+              {
+                double W = 0.;
+                for (unsigned int j = 0; j < n; ++j)
+                  W += result.weights[j] * B(k, bernstein[j]);
+                for (unsigned int j = 0; j < n; ++j)
+                  A(k, j) = result.weights[j] * B(k, bernstein[j]) / W;
+              }
+            result.values_to_nodes.reinit(n, n);
+            result.values_to_nodes.invert(A);
+          }
+      }
+    return bezier_cells[cell->user_index()];
+  }
+
+  template <int dim>
   void
   DiscretizationIGA<dim>::constrain_component_on_boundary(
     const types::boundary_id   boundary_id,

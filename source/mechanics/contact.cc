@@ -156,6 +156,9 @@ namespace isoimpact
     if (result.n_active_points == 0)
       return;
     nodes.project_pressure(points, point_pressure, nodal, field);
+    if (record_points)
+      for (unsigned int k = 0; k < nodal.size(); ++k)
+        result.nodal_pressures[body].emplace_back(nodes.x_dof[k], nodal[k]);
     for (unsigned int q = 0; q < points.size(); ++q)
       {
         result.max_pressure = std::max(result.max_pressure, field[q]);

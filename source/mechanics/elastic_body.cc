@@ -154,8 +154,9 @@ namespace isoimpact
                                          Vector<double>       &a) const
   {
     body_constraints.condense(f);
-    stiffness.vmult(scratch, u);
-    f -= scratch;
+    stiffness_times_u.reinit(u.size(), true);
+    stiffness.vmult(stiffness_times_u, u);
+    f -= stiffness_times_u;
     body_constraints.set_zero(f);
     solve_mass(a, f);
     body_constraints.distribute(a);
@@ -202,6 +203,23 @@ namespace isoimpact
     scratch = u;
     body_constraints.set_zero(scratch);
     return 0.5 * stiffness.matrix_norm_square(scratch);
+  }
+
+  template <int dim>
+  double
+  ElasticBody<dim>::strain_energy_of_last_acceleration(
+    const Vector<double> &u) const
+  {
+    AssertThrow(stiffness_times_u.size() == u.size(),
+                ExcMessage("strain_energy_of_last_acceleration() needs a "
+                           "call of compute_acceleration() first"));
+    // K is condensed: constrained rows hold only their diagonal and the
+    // other rows have zeros in constrained columns, so dropping the
+    // constrained entries gives u_0 . K u_0 with u_0 = u constrained zero.
+    double energy = u * stiffness_times_u;
+    for (const auto &line : body_constraints.get_lines())
+      energy -= u[line.index] * stiffness_times_u[line.index];
+    return 0.5 * energy;
   }
 
   template <int dim>

@@ -1,10 +1,17 @@
 // Layer 6: ParaView output, history and pressure profiles.
+#include <deal.II/base/quadrature.h>
+
+#include <deal.II/fe/fe_values.h>
+
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
 #include <isoimpact/scene/output.h>
 
+#include <zlib.h>
+
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -12,6 +19,7 @@
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 using namespace dealii;
 
@@ -19,8 +27,32 @@ namespace isoimpact
 {
   namespace
   {
-    // Stresses (Pa) from the displacement gradient: the in-plane components,
-    // sigma_zz and the von Mises stress.
+    const std::vector<std::string> stress_names = {"stress_xx_Pa",
+                                                   "stress_yy_Pa",
+                                                   "stress_xy_Pa",
+                                                   "stress_zz_Pa",
+                                                   "von_mises_stress_Pa"};
+
+    // The in-plane stresses, sigma_zz and the von Mises stress (Pa) from a
+    // displacement gradient, in the order of stress_names.
+    std::array<double, 5>
+    stresses(const ElasticMaterial &material, const Tensor<2, 2> &gradient)
+    {
+      SymmetricTensor<2, 2> strain;
+      for (unsigned int i = 0; i < 2; ++i)
+        for (unsigned int j = i; j < 2; ++j)
+          strain[i][j] = 0.5 * (gradient[i][j] + gradient[j][i]);
+      const auto   sigma     = material.stress(strain);
+      const double sigma_zz  = material.out_of_plane_stress(strain);
+      const double von_mises = std::sqrt(
+        0.5 * ((sigma[0][0] - sigma[1][1]) * (sigma[0][0] - sigma[1][1]) +
+               (sigma[1][1] - sigma_zz) * (sigma[1][1] - sigma_zz) +
+               (sigma_zz - sigma[0][0]) * (sigma_zz - sigma[0][0])) +
+        3. * sigma[0][1] * sigma[0][1]);
+      return {{sigma[0][0], sigma[1][1], sigma[0][1], sigma_zz, von_mises}};
+    }
+
+    // The stresses for deal.II's DataOut (subdivided cells).
     class StressPostprocessor : public DataPostprocessor<2>
     {
     public:
@@ -35,34 +67,19 @@ namespace isoimpact
       {
         for (unsigned int q = 0; q < inputs.solution_gradients.size(); ++q)
           {
-            SymmetricTensor<2, 2> strain;
+            Tensor<2, 2> gradient;
             for (unsigned int i = 0; i < 2; ++i)
-              for (unsigned int j = i; j < 2; ++j)
-                strain[i][j] = 0.5 * (inputs.solution_gradients[q][i][j] +
-                                      inputs.solution_gradients[q][j][i]);
-            const auto   sigma     = material.stress(strain);
-            const double sigma_zz  = material.out_of_plane_stress(strain);
-            const double von_mises = std::sqrt(
-              0.5 * ((sigma[0][0] - sigma[1][1]) * (sigma[0][0] - sigma[1][1]) +
-                     (sigma[1][1] - sigma_zz) * (sigma[1][1] - sigma_zz) +
-                     (sigma_zz - sigma[0][0]) * (sigma_zz - sigma[0][0])) +
-              3. * sigma[0][1] * sigma[0][1]);
-            computed_quantities[q](0) = sigma[0][0];
-            computed_quantities[q](1) = sigma[1][1];
-            computed_quantities[q](2) = sigma[0][1];
-            computed_quantities[q](3) = sigma_zz;
-            computed_quantities[q](4) = von_mises;
+              gradient[i] = inputs.solution_gradients[q][i];
+            const auto values = stresses(material, gradient);
+            for (unsigned int k = 0; k < values.size(); ++k)
+              computed_quantities[q](k) = values[k];
           }
       }
 
       std::vector<std::string>
       get_names() const override
       {
-        return {"stress_xx_Pa",
-                "stress_yy_Pa",
-                "stress_xy_Pa",
-                "stress_zz_Pa",
-                "von_mises_stress_Pa"};
+        return stress_names;
       }
 
       UpdateFlags
@@ -74,6 +91,287 @@ namespace isoimpact
     private:
       const ElasticMaterial material;
     };
+
+    // Component 0 of a vector field as contact_pressure_Pa (DataOut).
+    class PressurePostprocessor : public DataPostprocessorScalar<2>
+    {
+    public:
+      PressurePostprocessor()
+        : DataPostprocessorScalar<2>("contact_pressure_Pa", update_values)
+      {}
+
+      void
+      evaluate_vector_field(
+        const DataPostprocessorInputs::Vector<2> &inputs,
+        std::vector<Vector<double>> &computed_quantities) const override
+      {
+        for (unsigned int q = 0; q < inputs.solution_values.size(); ++q)
+          computed_quantities[q](0) = inputs.solution_values[q](0);
+      }
+    };
+
+    // A VTK XML data array: Float64 (or UInt8 for cell types), zlib
+    // (fastest level) in one block, base64, as deal.II and VTK write it.
+    template <typename T>
+    void
+    write_data_array(std::ostream         &out,
+                     const std::string    &name,
+                     const unsigned int    n_components,
+                     const std::vector<T> &data)
+    {
+      const char *type = std::is_same_v<T, double>       ? "Float64" :
+                         std::is_same_v<T, std::uint8_t> ? "UInt8" :
+                                                           "Int64";
+      out << "<DataArray type=\"" << type << '"';
+      if (!name.empty())
+        out << " Name=\"" << name << '"';
+      out << " NumberOfComponents=\"" << n_components
+          << "\" format=\"binary\">\n";
+      const uLong                bytes           = data.size() * sizeof(T);
+      uLongf                     compressed_size = compressBound(bytes);
+      std::vector<unsigned char> compressed(compressed_size);
+      const int                  status = compress2(compressed.data(),
+                                   &compressed_size,
+                                   reinterpret_cast<const Bytef *>(data.data()),
+                                   bytes,
+                                   Z_BEST_SPEED);
+      AssertThrow(status == Z_OK, ExcMessage("zlib compression failed"));
+      // Header (UInt32): blocks, block size, last block size, compressed
+      // sizes; encoded apart from the data.
+      const std::array<std::uint32_t, 4> header = {
+        {1,
+         std::uint32_t(bytes),
+         std::uint32_t(bytes),
+         std::uint32_t(compressed_size)}};
+      const auto *h = reinterpret_cast<const unsigned char *>(header.data());
+      out << Utilities::encode_base64(
+               std::vector<unsigned char>(h, h + sizeof(header)))
+          << Utilities::encode_base64(
+               std::vector<unsigned char>(compressed.begin(),
+                                          compressed.begin() + compressed_size))
+          << "\n</DataArray>\n";
+    }
+
+    // The point arrays (name, components) of both writers; the higher-order
+    // cells add the rational weights.
+    std::vector<std::pair<std::string, unsigned int>>
+    point_arrays(const bool higher_order)
+    {
+      std::vector<std::pair<std::string, unsigned int>> arrays =
+        {{"displacement_m", 3}, {"velocity_m_per_s", 3}};
+      for (const auto &name : stress_names)
+        arrays.emplace_back(name, 1);
+      arrays.emplace_back("contact_pressure_Pa", 1);
+      if (higher_order)
+        arrays.emplace_back("RationalWeights", 1);
+      return arrays;
+    }
+
+    // Displacement, velocity and the contact pressure of a body on its
+    // DoFHandler.
+    struct DoFFields
+    {
+      DoFFields(const ElasticBody<2> &body,
+                const Vector<double> &contact_pressure)
+      {
+        const auto &disc = body.discretization();
+        const std::array<const Vector<double> *, 3> unknowns = {
+          {&body.displacement, &body.velocity, &contact_pressure}};
+        for (unsigned int i = 0; i < 3; ++i)
+          disc.to_dof_handler_vector(*unknowns[i], vectors[i]);
+      }
+      std::array<Vector<double>, 3> vectors;
+    };
+
+    // One body with deal.II's DataOut: n_subdivisions^2 linear cells per
+    // element. Compressed with zlib's fastest level: the default (best
+    // compression) took most of the run's time.
+    void
+    write_subdivided_vtu(std::ostream         &out,
+                         const ElasticBody<2> &body,
+                         const Vector<double> &contact_pressure,
+                         const double          time,
+                         const unsigned int    n_subdivisions)
+    {
+      const auto     &disc = body.discretization();
+      const DoFFields fields(body, contact_pressure);
+      const auto &[displacement, velocity, pressure] = fields.vectors;
+
+      const std::vector<
+        DataComponentInterpretation::DataComponentInterpretation>
+                          vector_field(2,
+                     DataComponentInterpretation::component_is_part_of_vector);
+      StressPostprocessor stress_fields(body.material());
+      DataOut<2>          data_out;
+      data_out.attach_dof_handler(disc.dof_handler());
+      data_out.add_data_vector(displacement,
+                               std::vector<std::string>(2, "displacement_m"),
+                               DataOut<2>::type_dof_data,
+                               vector_field);
+      data_out.add_data_vector(velocity,
+                               std::vector<std::string>(2, "velocity_m_per_s"),
+                               DataOut<2>::type_dof_data,
+                               vector_field);
+      data_out.add_data_vector(displacement, stress_fields);
+      PressurePostprocessor pressure_field;
+      data_out.add_data_vector(pressure, pressure_field);
+      data_out.build_patches(disc.mapping(),
+                             n_subdivisions,
+                             DataOut<2>::curved_inner_cells);
+      DataOutBase::VtkFlags flags(time);
+      flags.compression_level = DataOutBase::VtkFlags::best_speed;
+      data_out.set_flags(flags);
+      data_out.write_vtu(out);
+    }
+
+    /**
+     * One body as higher-order VTK cells (Discretization::
+     * higher_order_cell()): every cell has its own nodes (the stresses are
+     * discontinuous); fields are sampled with FEValues at the node points
+     * and turned into node coefficients, so displacement, velocity and the
+     * geometry are exact; the stresses interpolate the element's stresses
+     * at the node points.
+     */
+    void
+    write_higher_order_vtu(std::ostream         &out,
+                           const ElasticBody<2> &body,
+                           const Vector<double> &contact_pressure,
+                           const double          time)
+    {
+      const auto     &disc = body.discretization();
+      const DoFFields fields(body, contact_pressure);
+      const auto &[displacement, velocity, pressure] = fields.vectors;
+
+      const unsigned int degree =
+        disc.higher_order_cell(disc.dof_handler().begin_active()).degree;
+      const auto                       nodes = vtk_node_points(degree);
+      const unsigned int               n     = nodes.size();
+      FEValues<2>                      fe_values(disc.mapping(),
+                            disc.fe(),
+                            Quadrature<2>(nodes, std::vector<double>(n, 1.)),
+                            update_values | update_gradients |
+                              update_quadrature_points);
+      const FEValuesExtractors::Vector displacements(0);
+      const FEValuesExtractors::Scalar first_component(0);
+      std::vector<Tensor<1, 2>>        u(n), v(n);
+      std::vector<double>              p(n);
+      std::vector<Tensor<2, 2>>        grad_u(n);
+
+      const unsigned int n_cells = disc.triangulation().n_active_cells();
+      const auto         arrays  = point_arrays(true);
+      std::vector<std::vector<double>> point_data(arrays.size());
+      std::vector<double>              points;
+      // Sampled values (n x components) of: position, u, v, stresses,
+      // contact pressure.
+      const unsigned int pressure_column = 6 + stress_names.size();
+      FullMatrix<double> samples(n, pressure_column + 1);
+      FullMatrix<double> coefficients(n, samples.n());
+      for (const auto &cell : disc.dof_handler().active_cell_iterators())
+        {
+          const HigherOrderCell vtk_cell = disc.higher_order_cell(cell);
+          AssertThrow(vtk_cell.degree == degree,
+                      ExcMessage("cells of different degrees"));
+          fe_values.reinit(cell);
+          fe_values[displacements].get_function_values(displacement, u);
+          fe_values[displacements].get_function_values(velocity, v);
+          fe_values[displacements].get_function_gradients(displacement, grad_u);
+          fe_values[first_component].get_function_values(pressure, p);
+          for (unsigned int k = 0; k < n; ++k)
+            {
+              const auto x     = fe_values.quadrature_point(k);
+              const auto sigma = stresses(body.material(), grad_u[k]);
+              for (unsigned int d = 0; d < 2; ++d)
+                {
+                  samples(k, d)     = x[d];
+                  samples(k, 2 + d) = u[k][d];
+                  samples(k, 4 + d) = v[k][d];
+                }
+              for (unsigned int s = 0; s < sigma.size(); ++s)
+                samples(k, 6 + s) = sigma[s];
+              samples(k, pressure_column) = p[k];
+            }
+          if (vtk_cell.values_to_nodes.m() > 0)
+            vtk_cell.values_to_nodes.mmult(coefficients, samples);
+          else
+            coefficients = samples;
+          for (unsigned int j = 0; j < n; ++j)
+            {
+              points.insert(points.end(),
+                            {coefficients(j, 0), coefficients(j, 1), 0.});
+              for (unsigned int a = 0; a < 2; ++a)
+                point_data[a].insert(point_data[a].end(),
+                                     {coefficients(j, 2 + 2 * a),
+                                      coefficients(j, 3 + 2 * a),
+                                      0.});
+              // stresses and pressure, then the weights
+              for (unsigned int s = 0; s <= stress_names.size(); ++s)
+                point_data[2 + s].push_back(coefficients(j, 6 + s));
+              point_data.back().push_back(vtk_cell.weights[j]);
+            }
+        }
+      const unsigned int vtk_type =
+        disc.higher_order_cell(disc.dof_handler().begin_active()).vtk_type;
+
+      out << "<?xml version=\"1.0\"?>\n"
+          << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+             "byte_order=\"LittleEndian\" header_type=\"UInt32\" "
+             "compressor=\"vtkZLibDataCompressor\">\n<UnstructuredGrid>\n"
+          << "<FieldData>\n";
+      write_data_array(out, "TIME", 1, std::vector<double>{time});
+      out << "</FieldData>\n<Piece NumberOfPoints=\"" << points.size() / 3
+          << "\" NumberOfCells=\"" << n_cells << "\">\n<Points>\n";
+      write_data_array(out, "", 3, points);
+      out << "</Points>\n<Cells>\n";
+      std::vector<std::int64_t> connectivity(n_cells * n), offsets(n_cells);
+      for (std::size_t i = 0; i < connectivity.size(); ++i)
+        connectivity[i] = i;
+      for (unsigned int c = 0; c < n_cells; ++c)
+        offsets[c] = (c + 1) * n;
+      write_data_array(out, "connectivity", 1, connectivity);
+      write_data_array(out, "offsets", 1, offsets);
+      write_data_array(out,
+                       "types",
+                       1,
+                       std::vector<std::uint8_t>(n_cells, vtk_type));
+      out << "</Cells>\n<PointData RationalWeights=\"RationalWeights\">\n";
+      for (unsigned int a = 0; a < arrays.size(); ++a)
+        write_data_array(out, arrays[a].first, arrays[a].second, point_data[a]);
+      out << "</PointData>\n"
+          << "<CellData HigherOrderDegrees=\"HigherOrderDegrees\">\n";
+      std::vector<double> degrees;
+      for (unsigned int c = 0; c < n_cells; ++c)
+        degrees.insert(degrees.end(), {double(degree), double(degree), 0.});
+      write_data_array(out, "HigherOrderDegrees", 3, degrees);
+      out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+    }
+
+    // The .pvtu record of the pieces of one output time.
+    void
+    write_pvtu(std::ostream                   &out,
+               const std::vector<std::string> &pieces,
+               const bool                      higher_order)
+    {
+      out << "<?xml version=\"1.0\"?>\n"
+          << "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" "
+             "byte_order=\"LittleEndian\" header_type=\"UInt32\">\n"
+          << "<PUnstructuredGrid GhostLevel=\"0\">\n<PPointData"
+          << (higher_order ? " RationalWeights=\"RationalWeights\">\n" : ">\n");
+      // deal.II writes its fields as Float32.
+      const char *type = higher_order ? "Float64" : "Float32";
+      for (const auto &[name, n_components] : point_arrays(higher_order))
+        out << "<PDataArray type=\"" << type << "\" Name=\"" << name
+            << "\" NumberOfComponents=\"" << n_components << "\"/>\n";
+      out << "</PPointData>\n";
+      if (higher_order)
+        out << "<PCellData HigherOrderDegrees=\"HigherOrderDegrees\">\n"
+            << "<PDataArray type=\"Float64\" Name=\"HigherOrderDegrees\" "
+               "NumberOfComponents=\"3\"/>\n</PCellData>\n";
+      out << "<PPoints><PDataArray type=\"" << type
+          << "\" NumberOfComponents=\"3\"/></PPoints>\n";
+      for (const auto &piece : pieces)
+        out << "<Piece Source=\"" << piece << "\"/>\n";
+      out << "</PUnstructuredGrid>\n</VTKFile>\n";
+    }
   } // namespace
 
 
@@ -113,56 +411,58 @@ namespace isoimpact
 
 
   SolutionWriter::SolutionWriter(const std::string &directory,
-                                 const unsigned int n_subdivisions)
+                                 const unsigned int n_subdivisions,
+                                 const bool         higher_order)
     : directory(directory)
     , n_subdivisions(n_subdivisions)
+    , higher_order(higher_order)
   {}
+
+  std::vector<Vector<double>>
+  contact_pressure_nodal_values(const Scene                         &scene,
+                                const std::vector<ContactResult<2>> &results)
+  {
+    std::vector<Vector<double>> pressures;
+    for (const auto &body : scene.bodies)
+      pressures.emplace_back(body->n_dofs());
+    AssertDimension(results.size(), scene.interactions.size());
+    for (unsigned int i = 0; i < results.size(); ++i)
+      {
+        const std::array<unsigned int, 2> owners = {
+          {scene.interactions[i].first_body,
+           scene.interactions[i].second_body}};
+        for (unsigned int b = 0; b < 2; ++b)
+          for (const auto &[dof, p] : results[i].nodal_pressures[b])
+            pressures[owners[b]][dof] += p; // surfaces of two interactions
+      }
+    return pressures;
+  }
 
   std::string
   SolutionWriter::write(const std::vector<ElasticBody<2> *> &bodies,
-                        const double                         time)
+                        const double                         time,
+                        const std::vector<Vector<double>>   &contact_pressures)
   {
+    AssertDimension(contact_pressures.size(), bodies.size());
     const std::string        number = Utilities::int_to_string(counter++, 4);
     std::vector<std::string> pieces;
-    for (const auto *body : bodies)
+    for (unsigned int b = 0; b < bodies.size(); ++b)
       {
-        const auto    &disc = body->discretization();
-        Vector<double> displacement(disc.dof_handler().n_dofs());
-        Vector<double> velocity(disc.dof_handler().n_dofs());
-        disc.to_dof_handler_vector(body->displacement, displacement);
-        disc.to_dof_handler_vector(body->velocity, velocity);
-
-        const std::vector<
-          DataComponentInterpretation::DataComponentInterpretation>
-          vector_field(
-            2,
-            DataComponentInterpretation::component_is_part_of_vector);
-        StressPostprocessor stresses(body->material());
-        DataOut<2>          data_out;
-        data_out.attach_dof_handler(disc.dof_handler());
-        data_out.add_data_vector(displacement,
-                                 std::vector<std::string>(2, "displacement_m"),
-                                 DataOut<2>::type_dof_data,
-                                 vector_field);
-        data_out.add_data_vector(velocity,
-                                 std::vector<std::string>(2,
-                                                          "velocity_m_per_s"),
-                                 DataOut<2>::type_dof_data,
-                                 vector_field);
-        data_out.add_data_vector(displacement, stresses);
-        data_out.build_patches(disc.mapping(),
-                               n_subdivisions,
-                               DataOut<2>::curved_inner_cells);
-        DataOutBase::VtkFlags flags(time);
-        data_out.set_flags(flags);
-
+        const auto       *body  = bodies[b];
         const std::string piece = body->name() + "_" + number + ".vtu";
         // Every file by rename: a stopped run leaves complete files (and
         // at most one .tmp).
         write_by_rename(directory + "/" + piece, [&](std::ostream &out) {
           try
             {
-              data_out.write_vtu(out);
+              if (higher_order)
+                write_higher_order_vtu(out, *body, contact_pressures[b], time);
+              else
+                write_subdivided_vtu(out,
+                                     *body,
+                                     contact_pressures[b],
+                                     time,
+                                     n_subdivisions);
             }
           catch (const ExceptionBase &)
             {
@@ -170,22 +470,19 @@ namespace isoimpact
             }
         });
         pieces.push_back(piece);
-        if (body == bodies.back())
-          {
-            const std::string pvtu = "solution_" + number + ".pvtu";
-            write_by_rename(directory + "/" + pvtu, [&](std::ostream &record) {
-              try
-                {
-                  data_out.write_pvtu_record(record, pieces);
-                }
-              catch (const ExceptionBase &)
-                {
-                  record.setstate(std::ios::badbit);
-                }
-            });
-            times_and_names.emplace_back(time, pvtu);
-          }
       }
+    const std::string pvtu = "solution_" + number + ".pvtu";
+    write_by_rename(directory + "/" + pvtu, [&](std::ostream &record) {
+      try
+        {
+          write_pvtu(record, pieces, higher_order);
+        }
+      catch (const ExceptionBase &)
+        {
+          record.setstate(std::ios::badbit);
+        }
+    });
+    times_and_names.emplace_back(time, pvtu);
     // Rewritten at every output: by rename, so that a stop leaves the
     // previous complete record.
     write_by_rename(directory + "/solution.pvd", [&](std::ostream &pvd) {
@@ -323,7 +620,8 @@ namespace isoimpact
       const double force = reference ? reference->contact_force(time) : 0.;
       if (reference)
         out << ",analytic_pressure";
-      out << '\n' << std::setprecision(10);
+      // All the digits: the ParaView pressure is compared with them.
+      out << '\n' << std::setprecision(17);
       for (const auto &point : points)
         {
           const double s = point.reference_position * across;

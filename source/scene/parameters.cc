@@ -419,11 +419,19 @@ namespace isoimpact
                       "100",
                       Patterns::Integer(0),
                       "Steps between ParaView outputs (0: none).");
+    prm.declare_entry("VTU cells",
+                      "higher order",
+                      Patterns::Selection("higher order|subdivided"),
+                      "higher order: one VTK cell per element with the exact "
+                      "geometry and fields (Lagrange cells for FEA, rational "
+                      "Bezier cells for IGA; ParaView 5.9 or later); "
+                      "subdivided: VTU subdivisions linear quadrilaterals "
+                      "per element.");
     prm.declare_entry("VTU subdivisions",
                       "2",
                       Patterns::Integer(1, 8),
                       "Subdivisions of each cell in the ParaView output "
-                      "(curved cells).");
+                      "with VTU cells = subdivided.");
     prm.declare_entry("Pressure profile times",
                       "0.375",
                       Patterns::List(Patterns::Double(0.)),
@@ -549,6 +557,7 @@ namespace isoimpact
     history_interval  = prm.get_integer("History interval");
     vtu_interval      = prm.get_integer("VTU interval");
     vtu_subdivisions  = prm.get_integer("VTU subdivisions");
+    vtu_higher_order  = prm.get("VTU cells") == "higher order";
     profile_times     = parse_doubles(prm.get("Pressure profile times"));
     approach_law      = prm.get("Analytic reference");
     progress_interval = prm.get_double("Progress interval");

@@ -233,7 +233,9 @@ namespace isoimpact
       summary["cells"].push_back(
         body->discretization().triangulation().n_active_cells());
     summary["vtu_subdivisions"] = parameters.vtu_subdivisions;
-    summary["status"]           = facts.status;
+    summary["vtu_cells"] =
+      parameters.vtu_higher_order ? "higher order" : "subdivided";
+    summary["status"] = facts.status;
     if (!facts.stop_reason.empty())
       summary["stop_reason"] = facts.stop_reason;
     summary["time_step_s"]              = facts.time_step;
@@ -245,6 +247,10 @@ namespace isoimpact
     summary["stable_time_step_estimate_s"] = facts.stable.power_estimate;
     summary["steps"]                       = facts.n_steps;
     summary["wall_time_s"]                 = facts.wall_time;
+    summary["wall_time_parts_s"]           = {{"setup", facts.setup_wall_time},
+                                              {"time_loop", facts.time_loop_wall_time},
+                                              {"output", facts.output_wall_time},
+                                              {"total", facts.total_wall_time}};
     summary["symmetry_factor"]             = scene.symmetry_factor;
     summary["obstacle"]                    = parameters.obstacle.type;
 

@@ -143,7 +143,9 @@ namespace isoimpact
     EnergyBalance energy;
     energy.kinetic = kinetic_energy();
     for (const auto *body : bodies)
-      energy.strain += body->strain_energy(body->displacement);
+      // K u of this step's acceleration: no further product.
+      energy.strain +=
+        body->strain_energy_of_last_acceleration(body->displacement);
     for (const auto &result : results)
       energy.contact += result.energy;
     energy.contact_damping = contact_damping_work;

@@ -18,6 +18,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/vector.h>
 
 #include <isoimpact/discretization/boundary_segments.h>
@@ -58,6 +59,34 @@ namespace isoimpact
     static constexpr dealii::types::boundary_id curved_boundary_id   = 0;
     static constexpr dealii::types::boundary_id symmetry_boundary_id = 1;
   };
+
+  /**
+   * One cell as one higher-order VTK cell that carries the exact geometry
+   * and fields of the discretisation: VTK_LAGRANGE_QUADRILATERAL (70) for
+   * FE_Q and Q8 (a Q8 field is biquadratic too), VTK_BEZIER_QUADRILATERAL
+   * (77) with rational weights for NURBS. The nodes are the sample points
+   * vtk_node_points(degree) of the reference cell; the coefficient of node
+   * j is sum_k values_to_nodes(j, k) f(x_k) for a field f in the cell's
+   * space (exact, by interpolation).
+   */
+  struct HigherOrderCell
+  {
+    static constexpr unsigned int lagrange_quadrilateral = 70;
+    static constexpr unsigned int bezier_quadrilateral   = 77;
+
+    unsigned int vtk_type = lagrange_quadrilateral;
+    unsigned int degree   = 1;
+    // Rational weights of the nodes (all 1 for Lagrange cells).
+    std::vector<double> weights;
+    // Empty: the identity (the node values are the coefficients).
+    dealii::FullMatrix<double> values_to_nodes;
+  };
+
+  // The points (i/p, j/p) of the unit square in VTK's node order of a
+  // higher-order quadrilateral of degree p: corners, edges (each in the
+  // direction of increasing parameter), then the interior, i fastest.
+  std::vector<dealii::Point<2>>
+  vtk_node_points(const unsigned int degree);
 
   /**
    * The interface of layer 3 and what FEA and IGA share. A discretisation
@@ -156,6 +185,11 @@ namespace isoimpact
     // other boundary (mark_free_segment_ends()).
     std::vector<BoundarySegment<dim>>
     boundary_segments(const dealii::types::boundary_id boundary_id) const;
+
+    // The cell as a higher-order VTK cell. Default: a Lagrange cell of the
+    // element's degree (FEA).
+    virtual HigherOrderCell
+    higher_order_cell(const cell_iterator &cell) const;
 
     // Turns a vector of unknowns into a vector on the DoFHandler, for
     // DataOut and for evaluation with FEValues.

@@ -78,6 +78,13 @@ namespace isoimpact
       const unsigned int                 component,
       dealii::AffineConstraints<double> &constraints) const override;
 
+    // A rational Bezier cell (VTK_BEZIER_QUADRILATERAL): the Bezier
+    // extraction of the element's homogeneous control net gives the
+    // weights; values_to_nodes inverts the rational Bernstein collocation
+    // at the node points. Cached per element at the first call.
+    HigherOrderCell
+    higher_order_cell(const cell_iterator &cell) const override;
+
     // The patches with their global control point numbering.
     const nurbs::MultiPatch<dim> &
     patches() const
@@ -110,6 +117,8 @@ namespace isoimpact
 
     void
     make_mesh();
+
+    mutable std::vector<HigherOrderCell> bezier_cells;
 
     // Shared with FE_NURBS and MappingNURBS.
     std::shared_ptr<const nurbs::MultiPatch<dim>>                shared_patches;

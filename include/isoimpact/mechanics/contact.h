@@ -22,6 +22,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace isoimpact
@@ -81,6 +82,12 @@ namespace isoimpact
     dealii::Tensor<1, dim>         force_on_body_0; // N/m, resultant
     unsigned int                   n_active_points = 0;
     std::vector<ContactPoint<dim>> points;
+    // With record_points: the nodal values p_k (Pa) of the consistent
+    // pressure of each surface in contact, by the x unknown of the node,
+    // for body 0 and body 1 of the model (for the ParaView output).
+    std::array<std::vector<std::pair<dealii::types::global_dof_index, double>>,
+               2>
+      nodal_pressures;
 
     // The elastic pressure less the contact damping c dg/dt, down to zero
     // (no adhesion); adds the power the damping removes at a point of

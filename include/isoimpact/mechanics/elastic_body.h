@@ -65,6 +65,11 @@ namespace isoimpact
                    const dealii::Vector<double> &y) const;
     double
     strain_energy(const dealii::Vector<double> &u) const;
+    // strain_energy(u) from the product K u that the last call of
+    // compute_acceleration() computed: no further product. u must be the
+    // displacement of that call, unchanged since.
+    double
+    strain_energy_of_last_acceleration(const dealii::Vector<double> &u) const;
     dealii::Tensor<1, dim>
     momentum(const dealii::Vector<double> &v) const;
     // Mass of the body as the mass matrix sees it (kg/m).
@@ -115,6 +120,8 @@ namespace isoimpact
     dealii::PreconditionJacobi<dealii::SparseMatrix<double>>
                                    mass_preconditioner;
     mutable dealii::Vector<double> scratch, mass_times_scratch;
+    // K u of the last compute_acceleration().
+    mutable dealii::Vector<double> stiffness_times_u;
   };
 } // namespace isoimpact
 

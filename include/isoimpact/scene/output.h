@@ -35,20 +35,42 @@ namespace isoimpact
   class SolutionWriter
   {
   public:
+    // higher_order: one higher-order VTK cell per element
+    // (Discretization::higher_order_cell()); else deal.II's DataOut with
+    // n_subdivisions^2 linear cells per element.
     SolutionWriter(const std::string &directory,
-                   const unsigned int n_subdivisions);
+                   const unsigned int n_subdivisions,
+                   const bool         higher_order);
 
     // Writes body<i>_<NNNN>.vtu for each body, solution_<NNNN>.pvtu and
     // rewrites solution.pvd. Returns the name of the .pvtu file.
+    // `contact_pressures` (per body, see contact_pressure_nodal_values())
+    // gives the point field contact_pressure_Pa: on the contact surface it
+    // is the consistent contact pressure (the interior functions vanish
+    // there); inside the body it has no meaning.
     std::string
-    write(const std::vector<ElasticBody<2> *> &bodies, const double time);
+    write(const std::vector<ElasticBody<2> *>       &bodies,
+          const double                               time,
+          const std::vector<dealii::Vector<double>> &contact_pressures);
 
   private:
     std::string                                 directory;
     unsigned int                                n_subdivisions;
+    bool                                        higher_order;
     unsigned int                                counter = 0;
     std::vector<std::pair<double, std::string>> times_and_names;
   };
+
+  /**
+   * Per body of the scene: the nodal values p_k (Pa) of the consistent
+   * contact pressure (SurfaceNodes::project_pressure) on the x unknowns of
+   * the contact surface nodes, 0 elsewhere, from contact results evaluated
+   * with record_points (ContactResult::nodal_pressures), one per
+   * interaction of the scene.
+   */
+  std::vector<dealii::Vector<double>>
+  contact_pressure_nodal_values(const Scene                         &scene,
+                                const std::vector<ContactResult<2>> &results);
 
   /**
    * history.csv: a header that says the unit of every column, then one row

@@ -101,6 +101,7 @@ namespace isoimpact
     unsigned int        history_interval = 1;
     unsigned int        vtu_interval     = 100;
     unsigned int        vtu_subdivisions = 2;
+    bool                vtu_higher_order = true; // VTU cells = higher order
     std::vector<double> profile_times;
     std::string         approach_law      = "Gerl-Zippelius";
     double              progress_interval = 10.;  // percent of the run

@@ -74,9 +74,15 @@ namespace isoimpact
     double         time_step = 0.; // s
     StableTimeStep stable;
     unsigned int   n_steps   = 0;
-    double         wall_time = 0.; // s
-    std::string    status    = "completed";
-    std::string    stop_reason;
+    double         wall_time = 0.; // s, time loop and output
+    // Wall times (s) of the set-up (scene, matrices, time step), the time
+    // steps alone, the output (files, history, energies) and the whole run.
+    double      setup_wall_time     = 0.;
+    double      time_loop_wall_time = 0.;
+    double      output_wall_time    = 0.;
+    double      total_wall_time     = 0.;
+    std::string status              = "completed";
+    std::string stop_reason;
   };
 
   class RunSummary
