@@ -54,6 +54,12 @@ namespace isoimpact
 
   private:
     struct Factor;
+    // Forward and backward substitution with one factor, for the
+    // components that share it.
+    static void
+                                         solve_with_factor(const Factor                 &factor,
+                                                           dealii::Vector<double>       &a,
+                                                           const dealii::Vector<double> &f);
     std::vector<std::unique_ptr<Factor>> factors;
     double                               setup_seconds = 0.;
   };
