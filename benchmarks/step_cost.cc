@@ -1,13 +1,45 @@
 // Cost of one explicit step against a bare sparse matrix-vector product of
 // the same stiffness matrices, measured in the same run (the honest figure on
-// a shared machine). Usage: benchmark_step_cost FILE.prm [n_steps]
+// a shared machine), and where the step spends the rest: the acceleration
+// (ElasticBody::compute_acceleration, with the mass solve) against contact
+// and the integrator's vector updates. Each figure is the fastest of
+// `rounds` interleaved rounds of n_steps steps (resp. products), so that a
+// busy neighbour on the machine inflates no figure more than the others.
+// Memory: the peak resident set of the process (VmHWM) and, for consistent
+// mass, the Cholesky factors. The last line, "RESULT key=value ...", is read
+// by benchmarks/step_cost_sweep.py.
+// Usage: benchmark_step_cost FILE.prm [n_steps] [rounds]
 #include <deal.II/base/timer.h>
 
 #include <isoimpact/scene/scene.h>
 
+#include <algorithm>
+#include <fstream>
 #include <iostream>
+#include <limits>
+#include <sstream>
 
 using namespace dealii;
+
+namespace
+{
+  // A line "Key:  1234 kB" of /proc/self/status, in bytes (0 if absent).
+  double
+  status_bytes(const std::string &key)
+  {
+    std::ifstream status("/proc/self/status");
+    std::string   line;
+    while (std::getline(status, line))
+      if (line.rfind(key + ":", 0) == 0)
+        {
+          std::istringstream values(line.substr(key.size() + 1));
+          double             kilobytes = 0.;
+          values >> kilobytes;
+          return 1024. * kilobytes;
+        }
+    return 0.;
+  }
+} // namespace
 
 int
 main(int argc, char **argv)
@@ -15,45 +47,125 @@ main(int argc, char **argv)
   using namespace isoimpact;
   if (argc < 2)
     {
-      std::cerr << "usage: benchmark_step_cost FILE.prm [n_steps]\n";
+      std::cerr << "usage: benchmark_step_cost FILE.prm [n_steps] [rounds]\n";
       return 2;
     }
   const unsigned int n_steps = argc > 2 ? std::stoi(argv[2]) : 200;
+  const unsigned int rounds  = argc > 3 ? std::stoi(argv[3]) : 3;
   try
     {
+      Timer                setup_timer;
       const Parameters     parameters = read_parameters(argv[1]);
       Scene                scene      = build_scene(parameters);
+      const double         setup_time = setup_timer.wall_time();
       CentralDifference<2> integrator(scene.body_pointers(),
                                       scene.interactions,
                                       parameters.time_step);
       integrator.initialize();
 
-      Timer timer;
-      for (unsigned int step = 0; step < n_steps; ++step)
-        integrator.advance();
-      const double step_time = timer.wall_time() / n_steps;
-
-      std::size_t nonzeros = 0;
-      timer.restart();
-      for (unsigned int step = 0; step < n_steps; ++step)
-        for (const auto &body : scene.bodies)
-          body->stiffness_matrix().vmult(body->acceleration,
-                                         body->displacement);
-      const double matvec_time = timer.wall_time() / n_steps;
+      std::vector<Vector<double>> forces, products;
       for (const auto &body : scene.bodies)
-        nonzeros += body->stiffness_matrix().n_nonzero_elements();
+        {
+          forces.emplace_back(body->n_dofs());
+          products.emplace_back(body->n_dofs());
+        }
+      const double infinity   = std::numeric_limits<double>::infinity();
+      double       step_time  = infinity;
+      double       matvec     = infinity;
+      double       accel_time = infinity;
+      double       solve_time = infinity;
+      Timer        timer;
+      for (unsigned int round = 0; round < rounds; ++round)
+        {
+          timer.restart();
+          for (unsigned int step = 0; step < n_steps; ++step)
+            integrator.advance();
+          step_time = std::min(step_time, timer.wall_time() / n_steps);
 
-      const double n = scene.n_dofs();
+          timer.restart();
+          for (unsigned int step = 0; step < n_steps; ++step)
+            for (unsigned int b = 0; b < scene.bodies.size(); ++b)
+              scene.bodies[b]->stiffness_matrix().vmult(
+                products[b],
+                scene.bodies[b]->displacement);
+          matvec = std::min(matvec, timer.wall_time() / n_steps);
+
+          // The acceleration alone (no contact force): condensation, K u,
+          // mass solve, distribution.
+          timer.restart();
+          for (unsigned int step = 0; step < n_steps; ++step)
+            for (unsigned int b = 0; b < scene.bodies.size(); ++b)
+              {
+                forces[b] = 0.;
+                scene.bodies[b]->compute_acceleration(
+                  scene.bodies[b]->displacement,
+                  forces[b],
+                  products[b]);
+              }
+          accel_time = std::min(accel_time, timer.wall_time() / n_steps);
+
+          // The consistent mass solve alone.
+          timer.restart();
+          for (unsigned int step = 0; step < n_steps; ++step)
+            for (unsigned int b = 0; b < scene.bodies.size(); ++b)
+              if (const auto *solver =
+                    scene.bodies[b]->consistent_mass_solver())
+                solver->solve(products[b], scene.bodies[b]->velocity);
+          solve_time = std::min(solve_time, timer.wall_time() / n_steps);
+        }
+
+      std::size_t nonzeros = 0, factor_nonzeros = 0, factor_bytes = 0;
+      double      factor_setup = 0.;
+      for (const auto &body : scene.bodies)
+        {
+          nonzeros += body->stiffness_matrix().n_nonzero_elements();
+          if (const auto *solver = body->consistent_mass_solver())
+            {
+              factor_nonzeros += solver->factor_nonzeros();
+              factor_bytes += solver->memory_consumption();
+              factor_setup += solver->setup_time();
+            }
+        }
+      const double n    = scene.n_dofs();
+      const double peak = status_bytes("VmHWM");
+      const bool   contact_on =
+        !integrator.contact_results().empty() &&
+        integrator.contact_results()[0].n_active_points > 0;
+
       std::cout << "unknowns " << scene.n_dofs() << ", stiffness nonzeros "
                 << nonzeros << " (" << nonzeros / n << " per row), mass "
-                << to_string(parameters.mass_scheme) << ", " << n_steps
-                << " steps\n"
+                << to_string(parameters.mass_scheme) << ", " << rounds
+                << " rounds of " << n_steps << " steps, contact "
+                << (contact_on ? "on" : "OFF")
+                << " at the end (t = " << integrator.time() << " s)\n"
+                << "set-up (scene)       " << setup_time << " s\n";
+      if (factor_nonzeros > 0)
+        std::cout << "mass factorisation   " << factor_setup << " s, "
+                  << factor_nonzeros << " nonzeros (" << factor_nonzeros / n
+                  << " per unknown), " << factor_bytes / n
+                  << " bytes per unknown\n"
+                  << "mass solve alone     " << 1e3 * solve_time << " ms ("
+                  << 1e9 * solve_time / n << " ns per unknown)\n";
+      std::cout << "peak memory (VmHWM)  " << peak / n << " bytes per unknown\n"
                 << "time per step        " << 1e3 * step_time << " ms ("
                 << 1e9 * step_time / n << " ns per unknown)\n"
-                << "bare mat-vec (all K) " << 1e3 * matvec_time << " ms ("
-                << 1e9 * matvec_time / n << " ns per unknown)\n"
-                << "step / mat-vec       " << step_time / matvec_time
-                << std::endl;
+                << "acceleration alone   " << 1e3 * accel_time << " ms ("
+                << 1e9 * accel_time / n << " ns per unknown)\n"
+                << "bare mat-vec (all K) " << 1e3 * matvec << " ms ("
+                << 1e9 * matvec / n << " ns per unknown)\n"
+                << "step / mat-vec       " << step_time / matvec << std::endl;
+      std::cout << "RESULT unknowns=" << scene.n_dofs()
+                << " mass=" << to_string(parameters.mass_scheme)
+                << " contact=" << (contact_on ? 1 : 0)
+                << " step_ns=" << 1e9 * step_time / n
+                << " accel_ns=" << 1e9 * accel_time / n << " solve_ns="
+                << (factor_nonzeros > 0 ? 1e9 * solve_time / n : 0.)
+                << " matvec_ns=" << 1e9 * matvec / n
+                << " peak_bytes=" << peak / n
+                << " factor_bytes=" << factor_bytes / n
+                << " factor_nnz=" << factor_nonzeros / n
+                << " factor_setup_s=" << factor_setup
+                << " setup_s=" << setup_time << std::endl;
     }
   catch (const std::exception &e)
     {

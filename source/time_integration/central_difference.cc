@@ -52,7 +52,8 @@ namespace isoimpact
   template <int dim>
   void
   CentralDifference<dim>::compute_accelerations(
-    const bool record_contact_points)
+    const bool record_contact_points,
+    const bool update_velocities)
   {
     for (auto &f : forces)
       f = 0.;
@@ -62,9 +63,16 @@ namespace isoimpact
                                                  contact_forces[c],
                                                  record_contact_points);
     for (unsigned int b = 0; b < bodies.size(); ++b)
-      bodies[b]->compute_acceleration(bodies[b]->displacement,
-                                      forces[b],
-                                      bodies[b]->acceleration);
+      if (update_velocities)
+        // v^{n+1} = v^{n+1/2} + dt/2 a^{n+1}; v^{n+3/2} = v^{n+1/2} + dt a,
+        // fused with the acceleration (one pass for lumped mass).
+        bodies[b]->compute_acceleration_and_velocities(forces[b],
+                                                       half_step_velocity[b],
+                                                       dt);
+      else
+        bodies[b]->compute_acceleration(bodies[b]->displacement,
+                                        forces[b],
+                                        bodies[b]->acceleration);
   }
 
   template <int dim>
@@ -85,16 +93,9 @@ namespace isoimpact
   {
     for (unsigned int b = 0; b < bodies.size(); ++b)
       bodies[b]->displacement.add(dt, half_step_velocity[b]);
-    compute_accelerations(record_contact_points);
+    compute_accelerations(record_contact_points, true);
     for (const auto &result : results)
       contact_damping_work += dt * result.damping_power;
-    for (unsigned int b = 0; b < bodies.size(); ++b)
-      {
-        // v^{n+1} = v^{n+1/2} + dt/2 a^{n+1}; v^{n+3/2} = v^{n+1/2} + dt a.
-        bodies[b]->velocity = half_step_velocity[b];
-        bodies[b]->velocity.add(0.5 * dt, bodies[b]->acceleration);
-        half_step_velocity[b].add(dt, bodies[b]->acceleration);
-      }
     ++step;
     current_time = step * dt;
   }

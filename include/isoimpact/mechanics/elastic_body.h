@@ -6,6 +6,7 @@
 #include <deal.II/lac/precondition.h>
 
 #include <isoimpact/mechanics/assembly.h>
+#include <isoimpact/mechanics/mass_solver.h>
 
 #include <memory>
 #include <string>
@@ -55,6 +56,18 @@ namespace isoimpact
                          dealii::Vector<double>       &f,
                          dealii::Vector<double>       &a) const;
 
+    /**
+     * One step of central differences after the forces: compute_acceleration
+     * of the displacement into `acceleration`, then velocity = v^{n+1/2} +
+     * dt/2 a and v^{n+1/2} += dt a (half_step_velocity). With lumped mass and
+     * constraints u_i = 0 alone, all of it in one pass after the mat-vec.
+     */
+    void
+    compute_acceleration_and_velocities(
+      dealii::Vector<double> &f,
+      dealii::Vector<double> &half_step_velocity,
+      const double            dt);
+
     // Energies per unit thickness (J/m) and momentum (kg/s per m) of the
     // modelled body, with the mass matrix in use.
     double
@@ -88,6 +101,17 @@ namespace isoimpact
     estimate_critical_time_step(
       const unsigned int                  n_iterations         = 200,
       const dealii::SparseMatrix<double> *additional_stiffness = nullptr) const;
+    /**
+     * Consistent mass only: solve M a = f by Jacobi-preconditioned CG to
+     * relative_tolerance instead of the Cholesky factors (the reference of
+     * tests/consistent_mass_solve.cc); 0 returns to the factors.
+     */
+    void
+    use_cg_mass_solve(const double relative_tolerance);
+    // The factorised consistent mass (nullptr for lumped mass).
+    const ComponentMassSolver *
+    consistent_mass_solver() const;
+
     // The diagonal of a lumped mass matrix (empty for consistent mass).
     const dealii::Vector<double> &
     lumped_masses() const;
@@ -103,6 +127,15 @@ namespace isoimpact
     void
     mass_vmult(dealii::Vector<double>       &y,
                const dealii::Vector<double> &x) const;
+    // a = (f - scratch) / m on free rows, 0 on constrained ones; with
+    // half_step_velocity also the velocity updates of
+    // compute_acceleration_and_velocities. scratch holds K u.
+    void
+    lumped_step_pass(const dealii::Vector<double> &f,
+                     dealii::Vector<double>       &a,
+                     dealii::Vector<double>       *half_step_velocity,
+                     dealii::Vector<double>       *velocity_out,
+                     const double                  dt) const;
     void
     solve_mass(dealii::Vector<double>       &a,
                const dealii::Vector<double> &f) const;
@@ -118,7 +151,13 @@ namespace isoimpact
     dealii::Vector<double>               lumped_mass;
     dealii::Vector<double>               inverse_lumped_mass;
     dealii::PreconditionJacobi<dealii::SparseMatrix<double>>
-                                   mass_preconditioner;
+                                         mass_preconditioner;
+    std::unique_ptr<ComponentMassSolver> mass_solver;
+    double                               cg_tolerance = 0.;
+    // Lumped mass with constraints u_i = 0 alone: the fused step, with the
+    // inverse masses zeroed on the constrained rows.
+    bool                           fused_lumped_step = false;
+    dealii::Vector<double>         step_inverse_mass;
     mutable dealii::Vector<double> scratch, mass_times_scratch;
     // K u of the last compute_acceleration().
     mutable dealii::Vector<double> stiffness_times_u;

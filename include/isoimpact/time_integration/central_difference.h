@@ -92,7 +92,8 @@ namespace isoimpact
 
   private:
     void
-    compute_accelerations(const bool record_contact_points);
+    compute_accelerations(const bool record_contact_points,
+                          const bool update_velocities = false);
 
     std::vector<ElasticBody<dim> *>      bodies;
     std::vector<ContactInteraction<dim>> contacts;

@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+"""Step cost from 1e4 to 1e6 unknowns (issue 12): FEA Q9 levels 4-7 and IGA
+p2 levels 5-8 of the Hertz benchmark (prm/hertz_fea_hrz.prm,
+prm/hertz_iga_hrz.prm), HRZ and consistent mass, each run by
+build/benchmarks/benchmark_step_cost (contact on: the cylinders touch from
+t = 0 and the rounds stay inside the impact). The step is dt = 2.5e-4 s at
+level 4, halved per level (stable for both masses). Prints one table:
+ns per unknown per step, the bare stiffness mat-vec of the same matrices in
+the same run, their ratio, the consistent step against the HRZ step (both
+normalised by their run's mat-vec, so that a change of the machine's load
+between the runs cancels, and raw), peak memory and the Cholesky factors per
+unknown, and the factorisation's set-up time.
+usage: python3 benchmarks/step_cost_sweep.py [--quick] [--build build]
+  --quick: the two smallest levels of each method only."""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+
+root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(root, "tests", "scripts"))
+from testing import edit_prm  # noqa: E402
+
+# File, levels, unknowns at level 4 (about 4 times more per level).
+CASES = {"FEA Q9": ("prm/hertz_fea_hrz.prm", [4, 5, 6, 7], 16772),
+         "IGA p2": ("prm/hertz_iga_hrz.prm", [5, 6, 7, 8], 4832)}
+MASSES = ["HRZ", "consistent"]
+
+
+def run(binary, prm, steps, rounds):
+    out = subprocess.run([binary, prm, str(steps), str(rounds)], check=True,
+                         capture_output=True, text=True).stdout
+    line = [l for l in out.splitlines() if l.startswith("RESULT ")][-1]
+    return {k: v for k, v in (item.split("=") for item in line.split()[1:])}
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--build", default=os.path.join(root, "build"))
+    args = parser.parse_args()
+    binary = os.path.join(args.build, "benchmarks", "benchmark_step_cost")
+    rounds = 3
+    header = ("| method | level | unknowns | mass | step [ns/unknown] "
+              "| mat-vec [ns/unknown] | step / mat-vec | consistent / HRZ "
+              "(normalised) | consistent / HRZ (raw) | peak memory "
+              "[bytes/unknown] | factors [bytes/unknown] | factors "
+              "[nonzeros/unknown] | factorisation [s] |")
+    print(header)
+    print("|" + "---|" * (header.count("|") - 1))
+    with tempfile.TemporaryDirectory() as work:
+        for method, (prm, levels, level_4_unknowns) in CASES.items():
+            for level in (levels[:2] if args.quick else levels):
+                dt = 2.5e-4 / 2 ** (level - 4)
+                # About 2e7 unknown-steps per round, at most 0.6 s of
+                # simulated time in all rounds (inside the impact), at least
+                # 10 steps per round.
+                unknowns = level_4_unknowns * 4 ** (level - 4)
+                steps = max(10, min(int(0.6 / (rounds * dt)),
+                                    int(2e7 / unknowns)))
+                results = {}
+                for mass in MASSES:
+                    name = os.path.join(work, f"{level}_{mass}.prm")
+                    edit_prm(os.path.join(root, prm), name, {
+                        "Discretization/Global refinements": level,
+                        "Mass matrix/Scheme": mass,
+                        "Time integration/Time step": dt,
+                        "Time integration/Allow time step above the stable "
+                        "estimate": "true",
+                        "Output/VTU interval": 0,
+                        "Output/Pressure profile times": "",
+                        "Output/Directory": os.path.join(work, "out")})
+                    results[mass] = run(binary, name, steps, rounds)
+                lumped = results["HRZ"]
+                for mass in MASSES:
+                    r = results[mass]
+                    step, matvec = float(r["step_ns"]), float(r["matvec_ns"])
+                    assert r["contact"] == "1", f"no contact in {method} {level}"
+                    ratio = step / matvec
+                    normalised = ratio / (float(lumped["step_ns"]) /
+                                          float(lumped["matvec_ns"]))
+                    raw = step / float(lumped["step_ns"])
+                    consistent = mass == "consistent"
+                    print(f"| {method} | {level} | {r['unknowns']} | {mass} "
+                          f"| {step:.1f} | {matvec:.1f} | {ratio:.2f} "
+                          f"| {normalised:.2f} | {raw:.2f} " if consistent else
+                          f"| {method} | {level} | {r['unknowns']} | {mass} "
+                          f"| {step:.1f} | {matvec:.1f} | {ratio:.2f} | - | - ",
+                          end="")
+                    print(f"| {float(r['peak_bytes']):.0f} "
+                          + (f"| {float(r['factor_bytes']):.0f} "
+                             f"| {float(r['factor_nnz']):.1f} "
+                             f"| {float(r['factor_setup_s']):.2f} |"
+                             if consistent else "| - | - | - |"), flush=True)
+
+
+if __name__ == "__main__":
+    main()

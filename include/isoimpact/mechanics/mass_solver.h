@@ -1,0 +1,68 @@
+// Layer 4: solves M a = f for a consistent mass matrix with a sparse
+// Cholesky factorisation computed once (CHOLMOD, METIS ordering). The mass
+// rho N_A N_B couples no two displacement components, so it is factorised
+// per component: a factor of n / dim rows per component, one factor shared
+// by the components whose matrices are equal (the same constraints), solved
+// for them together (one pass over the factor for all its components).
+#ifndef isoimpact_mass_solver_h
+#define isoimpact_mass_solver_h
+
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+namespace isoimpact
+{
+  class ComponentMassSolver
+  {
+  public:
+    ComponentMassSolver();
+    ~ComponentMassSolver();
+    ComponentMassSolver(const ComponentMassSolver &) = delete;
+    ComponentMassSolver &
+    operator=(const ComponentMassSolver &) = delete;
+
+    /**
+     * Factorises the condensed mass matrix `mass` (constrained rows carry a
+     * positive diagonal entry only). dof_component[i] is the component of
+     * unknown i. Throws if an entry couples two components or if a block is
+     * not positive definite.
+     */
+    void
+    initialize(const dealii::SparseMatrix<double> &mass,
+               const std::vector<unsigned char>   &dof_component);
+
+    // a = M^{-1} f (a and f of the full size, may not alias).
+    void
+    solve(dealii::Vector<double> &a, const dealii::Vector<double> &f) const;
+
+    // Number of distinct factors (1 if all components share one).
+    unsigned int
+    n_factors() const;
+    // Nonzeros of the factors L (all factors).
+    std::size_t
+    factor_nonzeros() const;
+    // Bytes held by the factors and the work arrays of the solve.
+    std::size_t
+    memory_consumption() const;
+    // Wall time of initialize() (extraction, ordering, factorisation), s.
+    double
+    setup_time() const;
+
+  private:
+    struct Factor;
+    // Forward and backward substitution with one factor, for the
+    // components that share it.
+    static void
+                                         solve_with_factor(const Factor                 &factor,
+                                                           dealii::Vector<double>       &a,
+                                                           const dealii::Vector<double> &f);
+    std::vector<std::unique_ptr<Factor>> factors;
+    double                               setup_seconds = 0.;
+  };
+} // namespace isoimpact
+
+#endif
