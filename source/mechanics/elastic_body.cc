@@ -196,7 +196,8 @@ namespace isoimpact
   {
     if (fused_lumped_step)
       {
-        stiffness.vmult(scratch, u);
+        stiffness_times_u.reinit(u.size(), true);
+        stiffness.vmult(stiffness_times_u, u);
         lumped_step_pass(f, a, nullptr, nullptr, 0.);
         return;
       }
@@ -224,7 +225,8 @@ namespace isoimpact
         half_step_velocity.add(dt, acceleration);
         return;
       }
-    stiffness.vmult(scratch, displacement);
+    stiffness_times_u.reinit(displacement.size(), true);
+    stiffness.vmult(stiffness_times_u, displacement);
     lumped_step_pass(f, acceleration, &half_step_velocity, &velocity, dt);
   }
 
@@ -246,7 +248,7 @@ namespace isoimpact
         for (types::global_dof_index i = begin; i < end; ++i)
           {
             const double w = step_inverse_mass(i);
-            a(i)           = (w == 0.) ? 0. : (f(i) - scratch(i)) * w;
+            a(i)           = (w == 0.) ? 0. : (f(i) - stiffness_times_u(i)) * w;
           }
         if (half_step_velocity == nullptr)
           return;

@@ -129,7 +129,7 @@ namespace isoimpact
                const dealii::Vector<double> &x) const;
     // a = (f - scratch) / m on free rows, 0 on constrained ones; with
     // half_step_velocity also the velocity updates of
-    // compute_acceleration_and_velocities. scratch holds K u.
+    // compute_acceleration_and_velocities. stiffness_times_u holds K u.
     void
     lumped_step_pass(const dealii::Vector<double> &f,
                      dealii::Vector<double>       &a,
