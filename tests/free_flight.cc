@@ -256,8 +256,7 @@ namespace
             strain += body.strain_energy(body.displacement);
           }
         max_strain_mismatch =
-          std::max(max_strain_mismatch,
-                   std::abs(balance.strain - strain) / E0);
+          std::max(max_strain_mismatch, std::abs(balance.strain - strain) / E0);
         max_balance_drift =
           std::max(max_balance_drift,
                    std::abs(balance.total() - E_balance0) / E0);
