@@ -22,7 +22,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from isoimpact_results import moving_average, read_history, window_width  # noqa: E402
+from isoimpact_results import hertz_support, moving_average, read_history, read_profile, window_width  # noqa: E402
 
 TREND_WINDOW_S = 0.05
 
@@ -33,20 +33,11 @@ PROFILE_TIME_S = 0.375
 def profile_rms(directory):
     """(consistent, Gauss-point) RMS deviation from the Hertz profile over
     |x| < 0.9 a, in % of p0; None if there is no profile at 0.375 s."""
-    import glob
-    files = glob.glob(os.path.join(directory, "contact_pressure_t*.csv"))
-    if not files:
+    p = read_profile(directory, PROFILE_TIME_S)
+    if p is None:
         return None, None
-    # the program writes a profile at the first step at or after the time
-    path = min(files, key=lambda f: abs(float(os.path.basename(f)[18:-4]) - PROFILE_TIME_S))
-    from isoimpact_results import read_columns
-    p = read_columns(path)
+    a, p0 = hertz_support(p)
     analytic = p["analytic_pressure"]
-    p0 = float(np.max(analytic))
-    inside = analytic > 0
-    # a from the outermost point of the analytic support: p = p0 sqrt(1 - x^2/a^2)
-    k = np.argmax(np.where(inside, np.abs(p["position"]), -1))
-    a = abs(p["position"][k]) / np.sqrt(1 - (analytic[k] / p0) ** 2)
     mask = np.abs(p["position"]) < 0.9 * a
     rms = lambda c: 100 * float(np.sqrt(np.mean((p[c][mask] - analytic[mask]) ** 2))) / p0  # noqa: E731
     return rms("pressure"), rms("gauss_point_pressure")

@@ -8,6 +8,7 @@ of the summary's filtered peaks.
     smooth = isoimpact_results.moving_average(
         history["contact_force"], isoimpact_results.window_width(0.01, 5e-4))
 """
+import glob
 import os
 
 import numpy as np
@@ -48,3 +49,27 @@ def moving_average(signal, width):
     lo = np.maximum(0, index - half)
     hi = np.minimum(n, index + half + 1)
     return (cumulative[hi] - cumulative[lo]) / (hi - lo)
+
+
+def read_profile(directory, time_s):
+    """The pressure profile (contact_pressure_t*.csv) written nearest to
+    time_s, sorted by position; None if there is none or it has no point
+    with an analytic pressure (the contact open at that step)."""
+    files = glob.glob(os.path.join(directory, "contact_pressure_t*.csv"))
+    if not files:
+        return None
+    path = min(files, key=lambda f: abs(float(os.path.basename(f)[18:-4]) - time_s))
+    profile = read_columns(path)
+    if len(profile["position"]) == 0 or not np.any(profile["analytic_pressure"] > 0):
+        return None
+    order = np.argsort(profile["position"])
+    return {k: v[order] for k, v in profile.items()}
+
+
+def hertz_support(profile):
+    """(a, p0) of the analytic profile p0 sqrt(1 - x^2/a^2) in a profile,
+    a from its outermost point with a positive analytic pressure."""
+    analytic = profile["analytic_pressure"]
+    p0 = float(np.max(analytic))
+    k = np.argmax(np.where(analytic > 0, np.abs(profile["position"]), -1))
+    return abs(profile["position"][k]) / np.sqrt(1 - (analytic[k] / p0) ** 2), p0

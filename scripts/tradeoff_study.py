@@ -32,7 +32,6 @@ usage: python3 scripts/tradeoff_study.py PROGRAM OUTPUT_DIR
 The defaults are the full study (doc/tradeoff.md says how long it takes)."""
 import argparse
 import csv
-import glob
 import json
 import os
 import subprocess
@@ -46,7 +45,8 @@ ROOT = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(ROOT, "tests", "scripts"))
 sys.path.insert(0, HERE)
 from testing import edit_prm  # noqa: E402
-from isoimpact_results import moving_average, read_columns, read_history, window_width  # noqa: E402
+from isoimpact_results import (hertz_support, moving_average, read_history, read_profile,  # noqa: E402
+                               window_width)
 
 TREND_WINDOW_S = 0.05
 PROFILE_TIME_S = 0.375
@@ -136,26 +136,6 @@ def relative_l2(time, signal, reference_time, reference, mask):
     return float(np.linalg.norm(values - reference[mask]) / np.linalg.norm(reference[mask]))
 
 
-def profile_at(directory):
-    files = glob.glob(os.path.join(directory, "contact_pressure_t*.csv"))
-    if not files:
-        return None
-    path = min(files, key=lambda f: abs(float(os.path.basename(f)[18:-4]) - PROFILE_TIME_S))
-    profile = read_columns(path)
-    if len(profile["position"]) == 0 or not np.any(profile["analytic_pressure"] > 0):
-        return None  # no active point at that step (the chatter opened the contact)
-    order = np.argsort(profile["position"])
-    return {k: v[order] for k, v in profile.items()}
-
-
-def hertz_support(profile):
-    """(a, p0) of the analytic profile in the file."""
-    analytic = profile["analytic_pressure"]
-    p0 = float(np.max(analytic))
-    k = np.argmax(np.where(analytic > 0, np.abs(profile["position"]), -1))
-    return abs(profile["position"][k]) / np.sqrt(1 - (analytic[k] / p0) ** 2), p0
-
-
 def profile_rms(profile, reference_position, reference_pressure, a, p0):
     """RMS over |x| < 0.9 a of the profile's consistent pressure minus the
     reference (interpolated to the profile's points), in % of p0."""
@@ -204,7 +184,7 @@ def collect(work, level, family, mass, remedy):
     })
     row["_time"], row["_trend"], row["_mask"] = history["time"], trend, mask
     row["_analytic_force"] = history.get("analytic_contact_force")
-    row["_profile"] = profile_at(directory)
+    row["_profile"] = read_profile(directory, PROFILE_TIME_S)
     return row
 
 
