@@ -258,7 +258,8 @@ namespace isoimpact
     solution_writer =
       std::make_unique<SolutionWriter>(directory,
                                        parameters.vtu_subdivisions,
-                                       parameters.vtu_higher_order);
+                                       parameters.vtu_higher_order,
+                                       parameters.vtu_compression);
     history = std::make_unique<HistoryWriter>(directory + "/history.csv",
                                               parameter_file,
                                               parameters,
@@ -481,6 +482,8 @@ namespace isoimpact
       const Lap lap(output_time);
       history->flush();
       history.reset(); // closes history.csv
+      if (solution_writer)
+        solution_writer->finish(); // the last ParaView files
     }
 
     // summary.json holds the figures a user compares between runs: peaks,

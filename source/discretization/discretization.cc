@@ -3,6 +3,8 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/utilities.h>
 
+#include <deal.II/fe/mapping_q_cache.h>
+
 #include <deal.II/grid/grid_generator.h>
 
 #include <isoimpact/discretization/discretization.h>
@@ -33,6 +35,15 @@ namespace isoimpact
     AssertDimension(positions.size(), components.size());
     unknown_positions  = std::move(positions);
     unknown_components = std::move(components);
+  }
+
+  template <int dim>
+  void
+  Discretization<dim>::cache_mapping(const unsigned int degree)
+  {
+    auto cache = std::make_unique<MappingQCache<dim>>(degree);
+    cache->initialize(*cell_mapping, mesh);
+    cell_mapping = std::move(cache);
   }
 
   template <int dim>

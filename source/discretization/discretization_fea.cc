@@ -52,6 +52,7 @@ namespace isoimpact
                           degree + 1}
   {
     make_mesh(geometry);
+    this->cache_mapping(degree);
 
     auto &dof_handler = this->dofs;
     dof_handler.reinit(this->mesh);

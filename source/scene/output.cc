@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
@@ -110,47 +111,86 @@ namespace isoimpact
       }
     };
 
-    // A VTK XML data array: Float64 (or UInt8 for cell types), zlib
-    // (fastest level) in one block, base64, as deal.II and VTK write it.
-    template <typename T>
-    void
-    write_data_array(std::ostream         &out,
-                     const std::string    &name,
-                     const unsigned int    n_components,
-                     const std::vector<T> &data)
+    // The data arrays of a VTK XML file in its appended section (raw
+    // binary: no base64, which took as long as the compression). Each block
+    // is a UInt64 header and the bytes; with zlib, the header of VTK's
+    // vtkZLibDataCompressor (one block) and zlib's fastest level.
+    class AppendedArrays
     {
-      const char *type = std::is_same_v<T, double>       ? "Float64" :
-                         std::is_same_v<T, std::uint8_t> ? "UInt8" :
-                                                           "Int64";
-      out << "<DataArray type=\"" << type << '"';
-      if (!name.empty())
-        out << " Name=\"" << name << '"';
-      out << " NumberOfComponents=\"" << n_components
-          << "\" format=\"binary\">\n";
-      const uLong                bytes           = data.size() * sizeof(T);
-      uLongf                     compressed_size = compressBound(bytes);
-      std::vector<unsigned char> compressed(compressed_size);
-      const int                  status = compress2(compressed.data(),
-                                   &compressed_size,
-                                   reinterpret_cast<const Bytef *>(data.data()),
-                                   bytes,
-                                   Z_BEST_SPEED);
-      AssertThrow(status == Z_OK, ExcMessage("zlib compression failed"));
-      // Header (UInt32): blocks, block size, last block size, compressed
-      // sizes; encoded apart from the data.
-      const std::array<std::uint32_t, 4> header = {
-        {1,
-         std::uint32_t(bytes),
-         std::uint32_t(bytes),
-         std::uint32_t(compressed_size)}};
-      const auto *h = reinterpret_cast<const unsigned char *>(header.data());
-      out << Utilities::encode_base64(
-               std::vector<unsigned char>(h, h + sizeof(header)))
-          << Utilities::encode_base64(
-               std::vector<unsigned char>(compressed.begin(),
-                                          compressed.begin() + compressed_size))
-          << "\n</DataArray>\n";
-    }
+    public:
+      explicit AppendedArrays(const bool compress)
+        : compress(compress)
+      {}
+
+      // Appends the data; returns its <DataArray/> element.
+      template <typename T>
+      std::string
+      add(const std::string    &name,
+          const unsigned int    n_components,
+          const std::vector<T> &data)
+      {
+        const char        *type = std::is_same_v<T, double>       ? "Float64" :
+                                  std::is_same_v<T, std::uint8_t> ? "UInt8" :
+                                                                    "Int64";
+        std::ostringstream element;
+        element << "<DataArray type=\"" << type << '"';
+        if (!name.empty())
+          element << " Name=\"" << name << '"';
+        element << " NumberOfComponents=\"" << n_components
+                << "\" format=\"appended\" offset=\"" << bytes.size()
+                << "\"/>\n";
+        const std::uint64_t size  = data.size() * sizeof(T);
+        const auto         *begin = reinterpret_cast<const char *>(data.data());
+        if (!compress)
+          {
+            append(&size, sizeof(size));
+            bytes.append(begin, size);
+            return element.str();
+          }
+        uLongf                     compressed_size = compressBound(size);
+        std::vector<unsigned char> compressed(compressed_size);
+        const int                  status = compress2(compressed.data(),
+                                     &compressed_size,
+                                     reinterpret_cast<const Bytef *>(begin),
+                                     size,
+                                     Z_BEST_SPEED);
+        AssertThrow(status == Z_OK, ExcMessage("zlib compression failed"));
+        // blocks, block size, size of the last block, compressed sizes
+        const std::array<std::uint64_t, 4> header = {
+          {1, size, size, std::uint64_t(compressed_size)}};
+        append(header.data(), sizeof(header));
+        bytes.append(reinterpret_cast<const char *>(compressed.data()),
+                     compressed_size);
+        return element.str();
+      }
+
+      // The attributes of <VTKFile> that describe the arrays.
+      std::string
+      file_attributes() const
+      {
+        return std::string("byte_order=\"LittleEndian\" "
+                           "header_type=\"UInt64\"") +
+               (compress ? " compressor=\"vtkZLibDataCompressor\"" : "");
+      }
+
+      void
+      write(std::ostream &out) const
+      {
+        out << "<AppendedData encoding=\"raw\">\n_";
+        out.write(bytes.data(), bytes.size());
+        out << "\n</AppendedData>\n";
+      }
+
+    private:
+      void
+      append(const void *data, const std::size_t size)
+      {
+        bytes.append(static_cast<const char *>(data), size);
+      }
+
+      const bool  compress;
+      std::string bytes;
+    };
 
     // The point arrays (name, components) of both writers; the higher-order
     // cells add the rational weights.
@@ -224,6 +264,19 @@ namespace isoimpact
       data_out.write_vtu(out);
     }
 
+    // The fields of one body sampled as higher-order VTK cells: all a VTU
+    // file holds, independent of the body's later state, so that it can be
+    // compressed and written while the time loop goes on.
+    struct HigherOrderPiece
+    {
+      double                           time     = 0.;
+      unsigned int                     degree   = 0;
+      unsigned int                     vtk_type = 0;
+      unsigned int                     n_cells  = 0;
+      std::vector<double>              points;
+      std::vector<std::vector<double>> point_data;
+    };
+
     /**
      * One body as higher-order VTK cells (Discretization::
      * higher_order_cell()): every cell has its own nodes (the stresses are
@@ -232,19 +285,22 @@ namespace isoimpact
      * geometry are exact; the stresses interpolate the element's stresses
      * at the node points.
      */
-    void
-    write_higher_order_vtu(std::ostream         &out,
-                           const ElasticBody<2> &body,
-                           const Vector<double> &contact_pressure,
-                           const double          time)
+    HigherOrderPiece
+    sample_higher_order_cells(const ElasticBody<2> &body,
+                              const Vector<double> &contact_pressure,
+                              const double          time)
     {
       const auto     &disc = body.discretization();
       const DoFFields fields(body, contact_pressure);
       const auto &[displacement, velocity, pressure] = fields.vectors;
 
-      const unsigned int degree =
-        disc.higher_order_cell(disc.dof_handler().begin_active()).degree;
-      const auto                       nodes = vtk_node_points(degree);
+      HigherOrderPiece piece;
+      piece.time = time;
+      const HigherOrderCell first =
+        disc.higher_order_cell(disc.dof_handler().begin_active());
+      piece.degree                           = first.degree;
+      piece.vtk_type                         = first.vtk_type;
+      const auto                       nodes = vtk_node_points(piece.degree);
       const unsigned int               n     = nodes.size();
       FEValues<2>                      fe_values(disc.mapping(),
                             disc.fe(),
@@ -257,10 +313,13 @@ namespace isoimpact
       std::vector<double>              p(n);
       std::vector<Tensor<2, 2>>        grad_u(n);
 
-      const unsigned int n_cells = disc.triangulation().n_active_cells();
-      const auto         arrays  = point_arrays(true);
-      std::vector<std::vector<double>> point_data(arrays.size());
-      std::vector<double>              points;
+      piece.n_cells    = disc.triangulation().n_active_cells();
+      auto &point_data = piece.point_data;
+      auto &points     = piece.points;
+      point_data.resize(point_arrays(true).size());
+      points.reserve(3 * n * piece.n_cells);
+      for (auto &data : point_data)
+        data.reserve(3 * n * piece.n_cells);
       // Sampled values (n x components) of: position, u, v, stresses,
       // contact pressure.
       const unsigned int pressure_column = 6 + stress_names.size();
@@ -269,7 +328,7 @@ namespace isoimpact
       for (const auto &cell : disc.dof_handler().active_cell_iterators())
         {
           const HigherOrderCell vtk_cell = disc.higher_order_cell(cell);
-          AssertThrow(vtk_cell.degree == degree,
+          AssertThrow(vtk_cell.degree == piece.degree,
                       ExcMessage("cells of different degrees"));
           fe_values.reinit(cell);
           fe_values[displacements].get_function_values(displacement, u);
@@ -309,40 +368,53 @@ namespace isoimpact
               point_data.back().push_back(vtk_cell.weights[j]);
             }
         }
-      const unsigned int vtk_type =
-        disc.higher_order_cell(disc.dof_handler().begin_active()).vtk_type;
+      return piece;
+    }
 
-      out << "<?xml version=\"1.0\"?>\n"
-          << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
-             "byte_order=\"LittleEndian\" header_type=\"UInt32\" "
-             "compressor=\"vtkZLibDataCompressor\">\n<UnstructuredGrid>\n"
-          << "<FieldData>\n";
-      write_data_array(out, "TIME", 1, std::vector<double>{time});
-      out << "</FieldData>\n<Piece NumberOfPoints=\"" << points.size() / 3
-          << "\" NumberOfCells=\"" << n_cells << "\">\n<Points>\n";
-      write_data_array(out, "", 3, points);
-      out << "</Points>\n<Cells>\n";
+    // The VTU file of a sampled piece (appended raw data, see
+    // AppendedArrays).
+    void
+    write_higher_order_vtu(std::ostream           &out,
+                           const HigherOrderPiece &piece,
+                           const bool              compress)
+    {
+      const unsigned int n_cells = piece.n_cells;
+      const unsigned int n       = piece.points.size() / 3 / n_cells;
+      const auto         arrays  = point_arrays(true);
+      AppendedArrays     data(compress);
+      std::ostringstream xml;
+      xml << "<FieldData>\n"
+          << data.add("TIME", 1, std::vector<double>{piece.time})
+          << "</FieldData>\n<Piece NumberOfPoints=\"" << piece.points.size() / 3
+          << "\" NumberOfCells=\"" << n_cells << "\">\n<Points>\n"
+          << data.add("", 3, piece.points) << "</Points>\n<Cells>\n";
       std::vector<std::int64_t> connectivity(n_cells * n), offsets(n_cells);
       for (std::size_t i = 0; i < connectivity.size(); ++i)
         connectivity[i] = i;
       for (unsigned int c = 0; c < n_cells; ++c)
         offsets[c] = (c + 1) * n;
-      write_data_array(out, "connectivity", 1, connectivity);
-      write_data_array(out, "offsets", 1, offsets);
-      write_data_array(out,
-                       "types",
-                       1,
-                       std::vector<std::uint8_t>(n_cells, vtk_type));
-      out << "</Cells>\n<PointData RationalWeights=\"RationalWeights\">\n";
+      xml << data.add("connectivity", 1, connectivity)
+          << data.add("offsets", 1, offsets)
+          << data.add("types",
+                      1,
+                      std::vector<std::uint8_t>(n_cells, piece.vtk_type))
+          << "</Cells>\n<PointData RationalWeights=\"RationalWeights\">\n";
       for (unsigned int a = 0; a < arrays.size(); ++a)
-        write_data_array(out, arrays[a].first, arrays[a].second, point_data[a]);
-      out << "</PointData>\n"
-          << "<CellData HigherOrderDegrees=\"HigherOrderDegrees\">\n";
+        xml << data.add(arrays[a].first, arrays[a].second, piece.point_data[a]);
       std::vector<double> degrees;
       for (unsigned int c = 0; c < n_cells; ++c)
-        degrees.insert(degrees.end(), {double(degree), double(degree), 0.});
-      write_data_array(out, "HigherOrderDegrees", 3, degrees);
-      out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+        degrees.insert(degrees.end(),
+                       {double(piece.degree), double(piece.degree), 0.});
+      xml << "</PointData>\n"
+          << "<CellData HigherOrderDegrees=\"HigherOrderDegrees\">\n"
+          << data.add("HigherOrderDegrees", 3, degrees)
+          << "</CellData>\n</Piece>\n</UnstructuredGrid>\n";
+      out << "<?xml version=\"1.0\"?>\n"
+          << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+          << data.file_attributes() << ">\n<UnstructuredGrid>\n"
+          << xml.str();
+      data.write(out);
+      out << "</VTKFile>\n";
     }
 
     // The .pvtu record of the pieces of one output time.
@@ -412,10 +484,12 @@ namespace isoimpact
 
   SolutionWriter::SolutionWriter(const std::string &directory,
                                  const unsigned int n_subdivisions,
-                                 const bool         higher_order)
+                                 const bool         higher_order,
+                                 const bool         compress)
     : directory(directory)
     , n_subdivisions(n_subdivisions)
     , higher_order(higher_order)
+    , compress(compress)
   {}
 
   std::vector<Vector<double>>
@@ -446,56 +520,122 @@ namespace isoimpact
     AssertDimension(contact_pressures.size(), bodies.size());
     const std::string        number = Utilities::int_to_string(counter++, 4);
     std::vector<std::string> pieces;
-    for (unsigned int b = 0; b < bodies.size(); ++b)
+    for (const auto *body : bodies)
+      pieces.push_back(body->name() + "_" + number + ".vtu");
+    const std::string pvtu = "solution_" + number + ".pvtu";
+    times_and_names.emplace_back(time, pvtu);
+
+    // Every file by rename: a stopped run leaves complete files (and at most
+    // one .tmp per file being written).
+    const auto write_records = [directory = directory,
+                                pieces,
+                                pvtu,
+                                times_and_names = times_and_names,
+                                higher_order    = higher_order]() {
+      write_by_rename(directory + "/" + pvtu, [&](std::ostream &record) {
+        try
+          {
+            write_pvtu(record, pieces, higher_order);
+          }
+        catch (const ExceptionBase &)
+          {
+            record.setstate(std::ios::badbit);
+          }
+      });
+      // Rewritten at every output: by rename, so that a stop leaves the
+      // previous complete record.
+      write_by_rename(directory + "/solution.pvd", [&](std::ostream &pvd) {
+        try
+          {
+            DataOutBase::write_pvd_record(pvd, times_and_names);
+          }
+        catch (const ExceptionBase &)
+          {
+            pvd.setstate(std::ios::badbit);
+          }
+      });
+    };
+
+    if (!higher_order)
       {
-        const auto       *body  = bodies[b];
-        const std::string piece = body->name() + "_" + number + ".vtu";
-        // Every file by rename: a stopped run leaves complete files (and
-        // at most one .tmp).
-        write_by_rename(directory + "/" + piece, [&](std::ostream &out) {
-          try
-            {
-              if (higher_order)
-                write_higher_order_vtu(out, *body, contact_pressures[b], time);
-              else
+        // deal.II's DataOut refers to the body's vectors: written here.
+        finish();
+        for (unsigned int b = 0; b < bodies.size(); ++b)
+          write_by_rename(directory + "/" + pieces[b], [&](std::ostream &out) {
+            try
+              {
                 write_subdivided_vtu(out,
-                                     *body,
+                                     *bodies[b],
                                      contact_pressures[b],
                                      time,
                                      n_subdivisions);
-            }
-          catch (const ExceptionBase &)
-            {
-              out.setstate(std::ios::badbit); // reported by close_and_check
-            }
-        });
-        pieces.push_back(piece);
+              }
+            catch (const ExceptionBase &)
+              {
+                out.setstate(std::ios::badbit); // see close_and_check
+              }
+          });
+        write_records();
+        return pvtu;
       }
-    const std::string pvtu = "solution_" + number + ".pvtu";
-    write_by_rename(directory + "/" + pvtu, [&](std::ostream &record) {
-      try
-        {
-          write_pvtu(record, pieces, higher_order);
-        }
-      catch (const ExceptionBase &)
-        {
-          record.setstate(std::ios::badbit);
-        }
-    });
-    times_and_names.emplace_back(time, pvtu);
-    // Rewritten at every output: by rename, so that a stop leaves the
-    // previous complete record.
-    write_by_rename(directory + "/solution.pvd", [&](std::ostream &pvd) {
-      try
-        {
-          DataOutBase::write_pvd_record(pvd, times_and_names);
-        }
-      catch (const ExceptionBase &)
-        {
-          pvd.setstate(std::ios::badbit);
-        }
-    });
-    return times_and_names.back().second;
+
+    // The fields are sampled now; compression and writing (most of the
+    // cost) run in the background while the time loop goes on. One write
+    // is in flight at a time: the previous one is finished first.
+    // The bodies are sampled side by side (the time loop waits for them):
+    // all but the last in tasks, the last here.
+    std::vector<std::future<HigherOrderPiece>> sampling;
+    for (unsigned int b = 0; b + 1 < bodies.size(); ++b)
+      sampling.push_back(std::async(std::launch::async, [&, b]() {
+        return sample_higher_order_cells(*bodies[b],
+                                         contact_pressures[b],
+                                         time);
+      }));
+    HigherOrderPiece last =
+      sample_higher_order_cells(*bodies.back(), contact_pressures.back(), time);
+    std::vector<HigherOrderPiece> samples;
+    for (auto &piece : sampling)
+      samples.push_back(piece.get());
+    samples.push_back(std::move(last));
+    finish();
+    pending = std::async(
+      std::launch::async,
+      [directory = directory,
+       pieces,
+       samples  = std::move(samples),
+       compress = compress,
+       write_records]() {
+        for (unsigned int b = 0; b < pieces.size(); ++b)
+          write_by_rename(directory + "/" + pieces[b], [&](std::ostream &out) {
+            try
+              {
+                write_higher_order_vtu(out, samples[b], compress);
+              }
+            catch (const ExceptionBase &)
+              {
+                out.setstate(std::ios::badbit);
+              }
+          });
+        write_records();
+      });
+    return pvtu;
+  }
+
+
+
+  void
+  SolutionWriter::finish()
+  {
+    if (pending.valid())
+      pending.get(); // rethrows a failed write
+  }
+
+
+
+  SolutionWriter::~SolutionWriter()
+  {
+    if (pending.valid())
+      pending.wait(); // errors were reported by finish(), if called
   }
 
 
@@ -583,8 +723,12 @@ namespace isoimpact
          << factor * energy.strain << ',' << factor * energy.contact << ','
          << factor * energy.contact_damping << ',' << factor * energy.total();
     if (scene.reference)
-      rows << ',' << scene.reference->contact_force(time) << ','
-           << scene.reference->max_contact_pressure(time);
+      {
+        // One solve of the reference per row: its pressure from its force.
+        const double force = scene.reference->contact_force(time);
+        rows << ',' << force << ','
+             << scene.reference->peak_pressure_of_force(force);
+      }
     rows << '\n';
     // Whole rows only reach the file: a killed run leaves complete ones.
     if (rows.tellp() > (1 << 16))

@@ -7,6 +7,8 @@ probe of summary.json.
 - IGA (rational Bezier cells, degrees 2 and 3): every evaluated point of the
   arc lies at the radius to 1e-12 (relative): the rational Bezier form of a
   NURBS circle is exact.
+- The same with `Output/VTU compression = true` (zlib blocks in the appended
+  data instead of raw bytes).
 - FEA (Lagrange cells of FE_Q(2) on MappingQ(2)): the quadratic through
   three points of an arc of angle theta is not the arc; its radial error is
   at most the interpolation bound R theta^3 sqrt(3)/216 (max |d^3x/ds^3| /
@@ -76,12 +78,18 @@ def arc_errors(grid, center, radius):
 
 for name, prm, edits, vtk_type in [
         ("iga_p2", "hertz_iga_hrz_coarse.prm", {}, vtk.VTK_BEZIER_QUADRILATERAL),
+        ("iga_p2_zlib", "hertz_iga_hrz_coarse.prm", {"Output/VTU compression": "true"},
+         vtk.VTK_BEZIER_QUADRILATERAL),
         ("iga_p3", "hertz_iga_hrz_coarse.prm", {"Discretization/Degree": "3"}, vtk.VTK_BEZIER_QUADRILATERAL),
         ("fea_q2", "hertz_fea_hrz_coarse.prm", {}, vtk.VTK_LAGRANGE_QUADRILATERAL)]:
     folder, prm_values = run(name, prm, edits)
     summary = json.load(open(os.path.join(folder, "summary.json")))
     check_true(f"{name}: summary.json says vtu_cells = higher order", summary["vtu_cells"] == "higher order")
     degree = int(prm_values["Discretization/Degree"])
+    compressed = 'compressor="vtkZLibDataCompressor"' in open(os.path.join(folder, "body1_0000.vtu"),
+                                                              errors="replace").read(400)
+    check_true(f"{name}: zlib-compressed exactly when asked",
+               compressed == (edits.get("Output/VTU compression") == "true"))
     center = np.array([float(v) for v in prm_values["Body 1/Center"].split(",")])
     radius = float(prm_values["Body 1/Radius"])
 

@@ -215,16 +215,23 @@ namespace isoimpact
     set_unknowns(std::vector<dealii::Point<dim>> positions,
                  std::vector<unsigned char>      components);
 
+    // Replaces the mapping by MappingQCache(degree) of its support points
+    // on the final mesh: the same geometry, without the manifold
+    // evaluations of every FEValues::reinit (the ParaView output samples
+    // every cell at each write). Called once the mesh is final.
+    void
+    cache_mapping(const unsigned int degree);
+
     // Built by the constructors of the derived classes.
     dealii::Triangulation<dim> mesh;
     dealii::DoFHandler<dim>    dofs;
 
   private:
-    const dealii::FESystem<dim>                       vector_fe;
-    const std::unique_ptr<const dealii::Mapping<dim>> cell_mapping;
-    const dealii::QGauss<dim>                         gauss_quadrature;
-    std::vector<dealii::Point<dim>>                   unknown_positions;
-    std::vector<unsigned char>                        unknown_components;
+    const dealii::FESystem<dim>                 vector_fe;
+    std::unique_ptr<const dealii::Mapping<dim>> cell_mapping;
+    const dealii::QGauss<dim>                   gauss_quadrature;
+    std::vector<dealii::Point<dim>>             unknown_positions;
+    std::vector<unsigned char>                  unknown_components;
   };
 
   /**

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <fstream>
 #include <functional>
+#include <future>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -36,11 +37,13 @@ namespace isoimpact
   {
   public:
     // higher_order: one higher-order VTK cell per element
-    // (Discretization::higher_order_cell()); else deal.II's DataOut with
+    // (Discretization::higher_order_cell()), its arrays raw or (compress)
+    // zlib-compressed in the appended section; else deal.II's DataOut with
     // n_subdivisions^2 linear cells per element.
     SolutionWriter(const std::string &directory,
                    const unsigned int n_subdivisions,
-                   const bool         higher_order);
+                   const bool         higher_order,
+                   const bool         compress = false);
 
     // Writes body<i>_<NNNN>.vtu for each body, solution_<NNNN>.pvtu and
     // rewrites solution.pvd. Returns the name of the .pvtu file.
@@ -48,15 +51,28 @@ namespace isoimpact
     // gives the point field contact_pressure_Pa: on the contact surface it
     // is the consistent contact pressure (the interior functions vanish
     // there); inside the body it has no meaning.
+    // With higher-order cells the fields are sampled before write()
+    // returns and the files are compressed and written by a background
+    // task (one at a time); finish() waits for it and throws if a write
+    // failed.
     std::string
     write(const std::vector<ElasticBody<2> *>       &bodies,
           const double                               time,
           const std::vector<dealii::Vector<double>> &contact_pressures);
 
+    // Waits for the files of the last write(); rethrows its error.
+    void
+    finish();
+
+    // Waits for a write in flight (without reporting its error).
+    ~SolutionWriter();
+
   private:
+    std::future<void>                           pending;
     std::string                                 directory;
     unsigned int                                n_subdivisions;
     bool                                        higher_order;
+    bool                                        compress;
     unsigned int                                counter = 0;
     std::vector<std::pair<double, std::string>> times_and_names;
   };

@@ -102,6 +102,7 @@ namespace isoimpact
     unsigned int        vtu_interval     = 100;
     unsigned int        vtu_subdivisions = 2;
     bool                vtu_higher_order = true; // VTU cells = higher order
+    bool                vtu_compression  = false;
     std::vector<double> profile_times;
     std::string         approach_law      = "Gerl-Zippelius";
     double              progress_interval = 10.;  // percent of the run
