@@ -449,18 +449,22 @@ namespace isoimpact
     // contact), so that the contact mode has omega_c dt = sqrt(s) whatever
     // the mesh and the material.
     double automatic_penalty = 0.;
+    // The bodies' stable step bound without contact (the bound where one
+    // applies, else the power estimate): Penalty = auto and the bipenalty.
+    double bulk_step = std::numeric_limits<double>::infinity();
+    if (parameters.automatic_penalty || parameters.bipenalty)
+      for (const auto &body : scene.bodies)
+        {
+          const StableTimeStep step = compute_stable_time_step(*body, {});
+          bulk_step =
+            std::min(bulk_step,
+                     step.bound() > 0. ? step.bound() : step.power_estimate);
+        }
     if (parameters.automatic_penalty)
       {
-        double bulk_step  = std::numeric_limits<double>::infinity();
         double inverse_mu = 0.;
         for (unsigned int b = 0; b < scene.bodies.size(); ++b)
           {
-            // The bound where one applies, else the power estimate.
-            const StableTimeStep step =
-              compute_stable_time_step(*scene.bodies[b], {});
-            bulk_step =
-              std::min(bulk_step,
-                       step.bound() > 0. ? step.bound() : step.power_estimate);
             inverse_mu +=
               1. /
               mean_surface_mass_density(surfaces[b],
@@ -509,6 +513,18 @@ namespace isoimpact
                                               surfaces[0],
                                               surfaces[1]));
         scene.interactions.push_back({scene.contacts.back().get(), 0, 1});
+        // Bipenalty: the critical mass penalty makes the contact's bound
+        // margin C / eps_m equal to the bodies' (2 / dt_bulk)^2.
+        if (parameters.bipenalty)
+          for (auto &body : scene.bodies)
+            body->set_penalty_switching(
+              parameters.bipenalty_momentum_switching);
+        if (parameters.bipenalty)
+          scene.contacts.back()->set_bipenalty_mass(
+            parameters.bipenalty_mass_scale_factor *
+            parameters.contact_activation_margin *
+            scene.contacts.back()->bipenalty_stiffness() * bulk_step *
+            bulk_step / 4.);
       }
 
     if (parameters.contact.damping_ratio > 0.)
