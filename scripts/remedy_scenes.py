@@ -18,7 +18,9 @@ both at the benchmark files' step 5e-4 s (the same step, so that the time
 loop's cost per step compares; benchmarks/bipenalty.sh); writes
 OUTPUT_DIR/bipenalty.csv with the cost per step and the bipenalty's energy
 terms (largest kinetic energy of the mass penalty and largest energy its
-switching brought in, in % of the input energy).
+switching brought in, in % of the input energy). With --bipenalty --auto
+the same at the automatic step of each run (OUTPUT_DIR/bipenalty.csv too:
+use another OUTPUT_DIR).
 
 usage: python3 scripts/remedy_scenes.py PROGRAM OUTPUT_DIR [DAMPING_RATIO | --sweep | --penalty-auto | --bipenalty]"""
 import csv
@@ -105,7 +107,7 @@ def main():
                     if bipenalty else {"Contact/Damping ratio": damping}
                 step = {"Time integration/Time step": "5e-4",
                         "Time integration/Allow time step above the stable estimate":
-                        "true"} if bipenalty else {
+                        "true"} if bipenalty and "--auto" not in sys.argv else {
                     "Time integration/Time step": "auto",
                     "Time integration/Allow time step above the stable estimate": "false"}
                 prm = edit_prm(os.path.join(ROOT, base), folder + ".prm", {

@@ -101,7 +101,7 @@ namespace
     double sums[2][2] = {{0., 0.}, {0., 0.}};
     // The unknowns with penalty mass, (body, unknown) -> mass.
     std::map<std::pair<unsigned int, unsigned int>, double> masses;
-    double smallest = 0.;
+    double                                                  smallest = 0.;
     for (unsigned int b = 0; b < 2; ++b)
       for (const auto &[i, m] : result.penalty_masses[b])
         {

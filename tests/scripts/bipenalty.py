@@ -12,13 +12,20 @@ and IGA p2, each without and with it (momentum switching, the default):
   the energy its switching brought in) stays within ENERGY_LIMIT[file] % of
   the input energy; after the release the mass penalty holds no kinetic
   energy;
-- its force trend peak lies within PEAK_LIMIT % of the plain run's;
+- its force trend peak lies within PEAK_LIMIT % of the plain run's (whose
+  peak the chatter raises) and within CONVERGED_LIMIT % of the converged
+  430.7 N/m;
+- at 0.9 times the bound of the bodies without contact (the step the
+  linearised bipenalty allows) the FEA Q9 bipenalty run is stopped by the
+  stability monitor (exit 1): the reason the bound keeps the springs;
 - bad input: Bipenalty with a consistent mass, with Damping ratio > 0 and
   with an obstacle is refused (exit 2) with a message naming the file, the
   parameter and the value.
-Measured (this mesh, 2026-12-01): energy balance 0.076 % (FEA Q9), 0.04 %
-(Q8), 2.1 % (IGA p2: the switching brings in 8 J/m at its step); force
-trend peak -1.3 % (FEA Q9), -0.6 % (IGA p2) against plain; printed per run.
+Measured (this mesh, 2026-12-01, commit c5cb7ca): energy balance 0.070 %
+(FEA Q9), 0.073 % (Q8), 0.36 % (IGA p2; 2.1 % at 9e-4 s instead of its
+automatic 9.11e-4 s, hence the wider limit); force trend peak 433.2, 430.5,
+429.6 N/m against plain 437.4, 432.4, 442.8 N/m; chatter 27.8 -> 7.5 %,
+16.5 -> 7.3 %, 44.1 -> 13.3 %; printed per run.
 
 usage: bipenalty.py PROGRAM TESTS_PRM_DIR WORKDIR"""
 import json
@@ -40,7 +47,8 @@ program, prm_dir, workdir = sys.argv[1:4]
 os.makedirs(workdir, exist_ok=True)
 ENERGY_LIMIT = {"hertz_fea_hrz_coarse.prm": 0.5, "hertz_fea_q8_hrz_coarse.prm": 0.5,
                 "hertz_iga_hrz_coarse.prm": 3.0}  # % of the input energy
-PEAK_LIMIT = 3.0  # % of the plain run's force trend peak
+PEAK_LIMIT = 5.0  # % of the plain run's force trend peak
+CONVERGED_PEAK, CONVERGED_LIMIT = 430.7, 1.5  # N/m (README), %
 
 
 def run(base, name, edits, expect=0, measure=True):
@@ -98,6 +106,18 @@ for base in ["hertz_fea_hrz_coarse.prm", "hertz_fea_q8_hrz_coarse.prm",
     check_close(f"{base}: bipenalty force trend peak [N/m] vs plain",
                 bip["force_trend_peak_N_per_m"], plain["force_trend_peak_N_per_m"],
                 PEAK_LIMIT / 100)
+    check_close(f"{base}: bipenalty force trend peak [N/m] vs converged",
+                bip["force_trend_peak_N_per_m"], CONVERGED_PEAK, CONVERGED_LIMIT / 100)
+
+# Why the springs stay in the bound: at 0.9 times the bodies' own bound (the
+# step the linearised bipenalty would allow) the FEA Q9 run blows up: the
+# stability monitor stops it (exit 1).
+bulk_fea = run("hertz_fea_hrz_coarse.prm", "soft_again", {
+    "Contact/Penalty": "1e-6", "Time integration/End time": "0.01"}, measure=False)
+run("hertz_fea_hrz_coarse.prm", "bipenalty_bulk_step", {
+    "Contact/Bipenalty": "true",
+    "Time integration/Time step": f"{0.9 * bulk_fea['bound_s']:.6g}",
+    "Time integration/Allow time step above the stable estimate": "true"}, expect=1)
 
 # Bad input.
 base = "hertz_fea_hrz_coarse.prm"
