@@ -325,15 +325,15 @@ namespace isoimpact
       "stiffness penalty, a mass penalty eps_m lumped onto the unknowns of "
       "every active Gauss point and of its projection, per component, each "
       "step. eps_m = Bipenalty mass scale factor x the critical mass "
-      "penalty, which keeps the stable step of the bodies without contact "
-      "whatever the penalty. Not with Damping ratio > 0, a consistent mass "
-      "or an Obstacle (doc/formulation.md).");
+      "penalty of the stable step with the stiffness penalty (the smallest "
+      "that does not lower it). Not with Damping ratio > 0, a consistent "
+      "mass or an Obstacle (doc/formulation.md).");
     prm.declare_entry("Bipenalty mass scale factor",
                       "1",
                       Patterns::Double(0.),
                       "f > 0: eps_m = f x the critical mass penalty; the "
-                      "stable step is min(1, sqrt(f)) times that of the "
-                      "bodies without contact.");
+                      "stable step is min(1, sqrt(f)) times that with the "
+                      "stiffness penalty alone.");
     prm.declare_entry("Bipenalty switching",
                       "momentum",
                       Patterns::Selection("momentum|velocity"),

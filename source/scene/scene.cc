@@ -450,9 +450,9 @@ namespace isoimpact
     // the mesh and the material.
     double automatic_penalty = 0.;
     // The bodies' stable step bound without contact (the bound where one
-    // applies, else the power estimate): Penalty = auto and the bipenalty.
+    // applies, else the power estimate): Penalty = auto.
     double bulk_step = std::numeric_limits<double>::infinity();
-    if (parameters.automatic_penalty || parameters.bipenalty)
+    if (parameters.automatic_penalty)
       for (const auto &body : scene.bodies)
         {
           const StableTimeStep step = compute_stable_time_step(*body, {});
@@ -515,16 +515,27 @@ namespace isoimpact
         scene.interactions.push_back({scene.contacts.back().get(), 0, 1});
         // Bipenalty: the critical mass penalty makes the contact's bound
         // margin C / eps_m equal to the bodies' (2 / dt_bulk)^2.
+        // Bipenalty: the critical mass penalty of the step in use, the
+        // bound with the stiffness penalty's springs: margin C / eps_m =
+        // (2 / dt)^2, so that the mass penalty does not lower that step
+        // (Bipenalty mass scale factor f: the step becomes min(1, sqrt(f))
+        // dt). Not the bodies' own step: runs there blow up
+        // (doc/formulation.md).
         if (parameters.bipenalty)
-          for (auto &body : scene.bodies)
-            body->set_penalty_switching(
-              parameters.bipenalty_momentum_switching);
-        if (parameters.bipenalty)
-          scene.contacts.back()->set_bipenalty_mass(
-            parameters.bipenalty_mass_scale_factor *
-            parameters.contact_activation_margin *
-            scene.contacts.back()->bipenalty_stiffness() * bulk_step *
-            bulk_step / 4.);
+          {
+            for (auto &body : scene.bodies)
+              body->set_penalty_switching(
+                parameters.bipenalty_momentum_switching);
+            const double step =
+              scene_stable_time_step(scene.body_pointers(),
+                                     scene.interactions,
+                                     parameters.contact_activation_margin)
+                .bound();
+            scene.contacts.back()->set_bipenalty_mass(
+              parameters.bipenalty_mass_scale_factor *
+              parameters.contact_activation_margin *
+              scene.contacts.back()->bipenalty_stiffness() * step * step / 4.);
+          }
       }
 
     if (parameters.contact.damping_ratio > 0.)
