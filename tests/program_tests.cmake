@@ -162,6 +162,14 @@ add_test(NAME contact_damping
     ${_work}/contact_damping)
 set_tests_properties(contact_damping PROPERTIES TIMEOUT 900)
 
+# The bipenalty (issue 11) on the coarse meshes: stable step, energy balance
+# with the mass penalty's terms, force trend peak, refused combinations.
+add_test(NAME bipenalty
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/bipenalty.py
+    $<TARGET_FILE:isoimpact_program> ${CMAKE_CURRENT_SOURCE_DIR}/prm
+    ${_work}/bipenalty)
+set_tests_properties(bipenalty PROPERTIES TIMEOUT 900)
+
 # Output that survives a stop, a full disk and a rerun (issue 10).
 add_test(NAME output_robustness
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/output_robustness.py

@@ -553,7 +553,51 @@ namespace isoimpact
         surface.nodes    = SurfaceNodes<dim>(surface.segments, surface.points);
         point_pressure[b].resize(surface.points.size());
         point_gap[b].resize(surface.points.size());
+        // The bipenalty's bound needs max sum_k |R_k| over every point a
+        // projection can reach: sampled at 101 points per segment (1 for
+        // the non-negative NURBS, 1.25 for quadratic Lagrange faces).
+        std::vector<double> r, dr;
+        for (const auto &segment : surface.segments)
+          for (unsigned int i = 0; i <= 100; ++i)
+            {
+              evaluate_segment_basis(segment, i / 100., r, dr);
+              double sum = 0.;
+              for (const double value : r)
+                sum += std::abs(value);
+              lebesgue_constant = std::max(lebesgue_constant, sum);
+            }
       }
+  }
+
+  template <int dim>
+  void
+  PenaltyContact<dim>::set_bipenalty_mass(const double eps_m)
+  {
+    AssertThrow(eps_m >= 0. && std::isfinite(eps_m),
+                ExcMessage("bipenalty mass " + std::to_string(eps_m) +
+                           " kg/m^2 is not allowed: it must be >= 0"));
+    AssertThrow(eps_m == 0. || settings.damping_ratio == 0.,
+                ExcMessage("the bipenalty and the contact damping cannot be "
+                           "combined"));
+    settings.bipenalty_mass = eps_m;
+  }
+
+  template <int dim>
+  double
+  PenaltyContact<dim>::bipenalty_mass() const
+  {
+    return settings.bipenalty_mass;
+  }
+
+  template <int dim>
+  double
+  PenaltyContact<dim>::bipenalty_stiffness() const
+  {
+    // Per active pair: eps_pass w ((a - b) . n)^2 <= 2 eps_pass w (a.n^2 +
+    // b.n^2), and (sum_k R_k x_k)^2 <= s^2 sum_k |R_k|/s x_k^2 with s =
+    // sum_k |R_k| <= Lambda, while the mass penalty of the pair is eps_m w
+    // sum_k |R_k|/s |x_k|^2 on each side.
+    return 2. * lebesgue_constant * lebesgue_constant * penalty_per_pass();
   }
 
   template <int dim>
@@ -591,6 +635,10 @@ namespace isoimpact
       << " Pa/m";
     if (settings.damping_ratio > 0.)
       s << ", contact damping " << settings.damping_ratio << " of critical";
+    if (settings.bipenalty_mass > 0.)
+      s << ", bipenalty: mass penalty " << settings.bipenalty_mass
+        << " kg/m^2 per pass (eps_pass / eps_m = "
+        << penalty_per_pass() / settings.bipenalty_mass << " 1/s^2)";
     return s.str();
   }
 
@@ -702,8 +750,28 @@ namespace isoimpact
                                                               pressure,
                                                               *forces[body],
                                                               *forces[other]);
-            point_pressure[body][q]    = 2. * pressure;
-            point_gap[body][q]         = gap;
+            if (settings.bipenalty_mass > 0.)
+              {
+                // Lumped: eps_m w |R_k| / sum |R| per component on both
+                // sides (NURBS: eps_m w R_k).
+                const auto add_mass = [&](const BoundarySegment<dim> &seg,
+                                          const std::vector<double>  &values,
+                                          const unsigned int          side) {
+                  double sum = 0.;
+                  for (const double value : values)
+                    sum += std::abs(value);
+                  for (unsigned int k = 0; k < values.size(); ++k)
+                    for (unsigned int d = 0; d < dim; ++d)
+                      result.penalty_masses[side].emplace_back(
+                        seg.node_dofs[k][d],
+                        settings.bipenalty_mass * point.weight *
+                          std::abs(values[k]) / sum);
+                };
+                add_mass(segment, point.shape_values, body);
+                add_mass(other_segment, r, other);
+              }
+            point_pressure[body][q] = 2. * pressure;
+            point_gap[body][q]      = gap;
             result.add_active_point(2. * pressure,
                                     gap,
                                     0.5 * eps * gap * gap * point.weight,

@@ -419,5 +419,81 @@ namespace isoimpact
     return lumped_mass;
   }
 
+  template <int dim>
+  double
+  ElasticBody<dim>::set_penalty_masses(
+    const std::vector<std::pair<types::global_dof_index, double>> &masses,
+    Vector<double>                                                &v)
+  {
+    AssertThrow(scheme != MassScheme::consistent,
+                ExcMessage("penalty masses (bipenalty) need a lumped mass; " +
+                           body_name + " has the consistent mass"));
+    if (penalty_scratch.size() != n_dofs())
+      {
+        penalty_scratch.reinit(n_dofs());
+        previous_penalty_scratch.reinit(n_dofs());
+      }
+    // The unknowns whose penalty mass changes: those of the last call and
+    // those of this one.
+    std::vector<types::global_dof_index> touched;
+    for (const auto &[i, m] : penalty_masses)
+      {
+        previous_penalty_scratch(i) = m;
+        touched.push_back(i);
+      }
+    const auto add = [&](const types::global_dof_index i, const double m) {
+      if (m == 0.)
+        return;
+      if (penalty_scratch(i) == 0. && previous_penalty_scratch(i) == 0.)
+        touched.push_back(i);
+      penalty_scratch(i) += m;
+    };
+    for (const auto &[i, m] : masses)
+      if (!body_constraints.is_constrained(i))
+        add(i, m);
+      else
+        for (const auto &[j, weight] :
+             *body_constraints.get_constraint_entries(i))
+          add(j, std::abs(weight) * m);
+    penalty_masses.clear();
+    double change = 0.;
+    for (const types::global_dof_index i : touched)
+      {
+        const double old_mass = lumped_mass(i) + previous_penalty_scratch(i);
+        const double new_mass = lumped_mass(i) + penalty_scratch(i);
+        if (penalty_scratch(i) > 0.)
+          penalty_masses.emplace_back(i, penalty_scratch(i));
+        const double v_old = v(i);
+        // Momentum form: (m + m_p) v is continuous across the change.
+        if (penalty_momentum_switching)
+          v(i) = old_mass / new_mass * v_old;
+        change += new_mass * v(i) * v(i) - old_mass * v_old * v_old;
+        inverse_lumped_mass(i) = new_mass > 0. ? 1. / new_mass : 0.;
+        if (fused_lumped_step)
+          step_inverse_mass(i) = inverse_lumped_mass(i);
+        penalty_scratch(i)          = 0.;
+        previous_penalty_scratch(i) = 0.;
+      }
+    return 0.5 * change;
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::set_penalty_switching(const bool conserve_momentum)
+  {
+    penalty_momentum_switching = conserve_momentum;
+  }
+
+  template <int dim>
+  double
+  ElasticBody<dim>::penalty_kinetic_energy(const Vector<double> &x,
+                                           const Vector<double> &y) const
+  {
+    double energy = 0.;
+    for (const auto &[i, m] : penalty_masses)
+      energy += m * x(i) * y(i);
+    return 0.5 * energy;
+  }
+
   template class ElasticBody<2>;
 } // namespace isoimpact

@@ -666,9 +666,21 @@ namespace isoimpact
       out << "# the model is a half by symmetry: contact_force and "
              "energies are those of the model times "
           << scene.symmetry_factor << "\n";
+    bipenalty = parameters.bipenalty;
+    if (bipenalty)
+      out << "# bipenalty: bipenalty_kinetic_energy_J_per_m is the kinetic "
+             "energy of the mass penalty, bipenalty_switching_work_J_per_m "
+             "the energy it brought in since t = 0 as it appeared and "
+             "vanished; total_energy = kinetic + strain + contact + "
+             "contact_damping_work + bipenalty_kinetic_energy - "
+             "bipenalty_switching_work\n";
     out << "time,contact_force,max_contact_pressure,max_gauss_point_pressure,"
            "kinetic_energy,"
-           "strain_energy,contact_energy,contact_damping_work,total_energy";
+           "strain_energy,contact_energy,contact_damping_work,";
+    if (bipenalty)
+      out << "bipenalty_kinetic_energy_J_per_m,"
+             "bipenalty_switching_work_J_per_m,";
+    out << "total_energy";
     if (scene.reference)
       out << ",analytic_contact_force,analytic_max_contact_pressure";
     out << '\n';
@@ -721,7 +733,11 @@ namespace isoimpact
     rows << time << ',' << contact_force << ',' << max_pressure << ','
          << max_gauss_point_pressure << ',' << factor * energy.kinetic << ','
          << factor * energy.strain << ',' << factor * energy.contact << ','
-         << factor * energy.contact_damping << ',' << factor * energy.total();
+         << factor * energy.contact_damping << ',';
+    if (bipenalty)
+      rows << factor * energy.bipenalty_kinetic << ','
+           << factor * energy.bipenalty_switching << ',';
+    rows << factor * energy.total();
     if (scene.reference)
       {
         // One solve of the reference per row: its pressure from its force.

@@ -317,6 +317,32 @@ namespace isoimpact
       "[0, 1]; 0 = none. It damps the contact chatter; the stable step "
       "bound is reduced by sqrt(1 + xi^2) - xi. Applies to every contact, "
       "rigid obstacles included (doc/formulation.md).");
+    prm.declare_entry(
+      "Bipenalty",
+      "false",
+      Patterns::Bool(),
+      "Bipenalty method (two-body contact, lumped mass): next to the "
+      "stiffness penalty, a mass penalty eps_m lumped onto the unknowns of "
+      "every active Gauss point and of its projection, per component, each "
+      "step. eps_m = Bipenalty mass scale factor x the critical mass "
+      "penalty of the stable step with the stiffness penalty (the smallest "
+      "that does not lower it). Not with Damping ratio > 0, a consistent "
+      "mass or an Obstacle (doc/formulation.md).");
+    prm.declare_entry("Bipenalty mass scale factor",
+                      "1",
+                      Patterns::Double(0.),
+                      "f > 0: eps_m = f x the critical mass penalty; the "
+                      "stable step is min(1, sqrt(f)) times that with the "
+                      "stiffness penalty alone.");
+    prm.declare_entry("Bipenalty switching",
+                      "momentum",
+                      Patterns::Selection("momentum|velocity"),
+                      "Where the mass penalty of an unknown changes (the "
+                      "active set changes): momentum keeps (m + m_p) v "
+                      "(central differences in momentum form); velocity "
+                      "keeps v (the mass comes with the node's velocity and "
+                      "pumps momentum into the contact when it chatters; "
+                      "doc/formulation.md).");
     prm.leave_subsection();
 
     prm.enter_subsection("Obstacle");
@@ -529,6 +555,9 @@ namespace isoimpact
       penalty_per_pass_names.from_string(prm.get("Penalty per pass"));
     contact.n_quadrature_points = prm.get_integer("Quadrature points per face");
     contact.damping_ratio       = prm.get_double("Damping ratio");
+    bipenalty                   = prm.get_bool("Bipenalty");
+    bipenalty_mass_scale_factor = prm.get_double("Bipenalty mass scale factor");
+    bipenalty_momentum_switching = prm.get("Bipenalty switching") == "momentum";
     prm.leave_subsection();
 
     prm.enter_subsection("Obstacle");
@@ -613,6 +642,31 @@ namespace isoimpact
           throw InputError(message.str());
         }
     };
+    if (parameters.bipenalty)
+      {
+        require(parameters.mass_scheme != MassScheme::consistent,
+                "Contact/Bipenalty",
+                "true",
+                "the bipenalty adds its mass to a lumped diagonal: it needs "
+                "Mass matrix/Scheme = row-sum or HRZ (here consistent)");
+        require(parameters.contact.damping_ratio == 0.,
+                "Contact/Bipenalty",
+                "true",
+                "it cannot be combined with Contact/Damping ratio = " +
+                  std::to_string(parameters.contact.damping_ratio) +
+                  " (the damping's ratio refers to the surface mass without "
+                  "the mass penalty): set one of them off");
+        require(!parameters.obstacle.active(),
+                "Contact/Bipenalty",
+                "true",
+                "it is implemented for the two-body contact only, not with "
+                "Obstacle/Type = " +
+                  parameters.obstacle.type);
+        require(parameters.bipenalty_mass_scale_factor > 0.,
+                "Contact/Bipenalty mass scale factor",
+                parameters.bipenalty_mass_scale_factor,
+                "it must be positive");
+      }
     require(parameters.fea_element == FEAElement::lagrange ||
               (parameters.method == DiscretizationMethod::fea &&
                parameters.degree == 2),

@@ -449,18 +449,22 @@ namespace isoimpact
     // contact), so that the contact mode has omega_c dt = sqrt(s) whatever
     // the mesh and the material.
     double automatic_penalty = 0.;
+    // The bodies' stable step bound without contact (the bound where one
+    // applies, else the power estimate): Penalty = auto.
+    double bulk_step = std::numeric_limits<double>::infinity();
+    if (parameters.automatic_penalty)
+      for (const auto &body : scene.bodies)
+        {
+          const StableTimeStep step = compute_stable_time_step(*body, {});
+          bulk_step =
+            std::min(bulk_step,
+                     step.bound() > 0. ? step.bound() : step.power_estimate);
+        }
     if (parameters.automatic_penalty)
       {
-        double bulk_step  = std::numeric_limits<double>::infinity();
         double inverse_mu = 0.;
         for (unsigned int b = 0; b < scene.bodies.size(); ++b)
           {
-            // The bound where one applies, else the power estimate.
-            const StableTimeStep step =
-              compute_stable_time_step(*scene.bodies[b], {});
-            bulk_step =
-              std::min(bulk_step,
-                       step.bound() > 0. ? step.bound() : step.power_estimate);
             inverse_mu +=
               1. /
               mean_surface_mass_density(surfaces[b],
@@ -509,6 +513,29 @@ namespace isoimpact
                                               surfaces[0],
                                               surfaces[1]));
         scene.interactions.push_back({scene.contacts.back().get(), 0, 1});
+        // Bipenalty: the critical mass penalty makes the contact's bound
+        // margin C / eps_m equal to the bodies' (2 / dt_bulk)^2.
+        // Bipenalty: the critical mass penalty of the step in use, the
+        // bound with the stiffness penalty's springs: margin C / eps_m =
+        // (2 / dt)^2, so that the mass penalty does not lower that step
+        // (Bipenalty mass scale factor f: the step becomes min(1, sqrt(f))
+        // dt). Not the bodies' own step: runs there blow up
+        // (doc/formulation.md).
+        if (parameters.bipenalty)
+          {
+            for (auto &body : scene.bodies)
+              body->set_penalty_switching(
+                parameters.bipenalty_momentum_switching);
+            const double step =
+              scene_stable_time_step(scene.body_pointers(),
+                                     scene.interactions,
+                                     parameters.contact_activation_margin)
+                .bound();
+            scene.contacts.back()->set_bipenalty_mass(
+              parameters.bipenalty_mass_scale_factor *
+              parameters.contact_activation_margin *
+              scene.contacts.back()->bipenalty_stiffness() * step * step / 4.);
+          }
       }
 
     if (parameters.contact.damping_ratio > 0.)

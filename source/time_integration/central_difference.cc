@@ -32,6 +32,9 @@ namespace isoimpact
         half_step_velocity.emplace_back(body->n_dofs());
         forces.emplace_back(body->n_dofs());
       }
+    body_penalty_masses.resize(bodies.size());
+    for (const auto &interaction : contacts)
+      bipenalty |= interaction.contact->bipenalty_mass() > 0.;
     for (const auto &interaction : contacts)
       {
         std::vector<unsigned int> involved = {interaction.first_body};
@@ -62,6 +65,27 @@ namespace isoimpact
                                                  contact_velocities[c],
                                                  contact_forces[c],
                                                  record_contact_points);
+    if (bipenalty)
+      {
+        // The mass penalty of the new active set, at the half-step velocity
+        // the masses meet (v^{n+1/2}; v^0 at t = 0).
+        for (auto &masses : body_penalty_masses)
+          masses.clear();
+        for (unsigned int c = 0; c < contacts.size(); ++c)
+          for (unsigned int k = 0; k < contacts[c].contact->n_bodies(); ++k)
+            {
+              auto &masses =
+                body_penalty_masses[k == 0 ? contacts[c].first_body :
+                                             contacts[c].second_body];
+              masses.insert(masses.end(),
+                            results[c].penalty_masses[k].begin(),
+                            results[c].penalty_masses[k].end());
+            }
+        for (unsigned int b = 0; b < bodies.size(); ++b)
+          bipenalty_switching_work +=
+            bodies[b]->set_penalty_masses(body_penalty_masses[b],
+                                          half_step_velocity[b]);
+      }
     for (unsigned int b = 0; b < bodies.size(); ++b)
       if (update_velocities)
         // v^{n+1} = v^{n+1/2} + dt/2 a^{n+1}; v^{n+3/2} = v^{n+1/2} + dt a,
@@ -150,6 +174,18 @@ namespace isoimpact
     for (const auto &result : results)
       energy.contact += result.energy;
     energy.contact_damping = contact_damping_work;
+    if (bipenalty)
+      {
+        for (unsigned int b = 0; b < bodies.size(); ++b)
+          {
+            previous_half_step_velocity = half_step_velocity[b];
+            previous_half_step_velocity.add(-dt, bodies[b]->acceleration);
+            energy.bipenalty_kinetic +=
+              bodies[b]->penalty_kinetic_energy(previous_half_step_velocity,
+                                                half_step_velocity[b]);
+          }
+        energy.bipenalty_switching = bipenalty_switching_work;
+      }
     return energy;
   }
 

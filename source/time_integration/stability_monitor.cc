@@ -1,6 +1,7 @@
 // Layer 5: stability monitor.
 #include <isoimpact/time_integration/stability_monitor.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -15,8 +16,17 @@ namespace isoimpact
                          const double contact_activation_margin)
   {
     std::vector<std::vector<SurfaceSpring<dim>>> springs(bodies.size());
+    double                                       bipenalty_eigenvalue = 0.;
     for (const auto &interaction : contacts)
       {
+        if (interaction.contact->bipenalty_mass() > 0.)
+          {
+            bipenalty_eigenvalue =
+              std::max(bipenalty_eigenvalue,
+                       contact_activation_margin *
+                         interaction.contact->bipenalty_stiffness() /
+                         interaction.contact->bipenalty_mass());
+          }
         auto model_springs = interaction.contact->surface_springs();
         for (auto &spring : model_springs)
           spring.stiffness *= contact_activation_margin;
@@ -29,6 +39,11 @@ namespace isoimpact
       std::numeric_limits<double>::infinity();
     for (unsigned int b = 0; b < bodies.size(); ++b)
       step = step.min(compute_stable_time_step(*bodies[b], springs[b]));
+    if (bipenalty_eigenvalue > 0.)
+      {
+        const double bipenalty_step = 2. / std::sqrt(bipenalty_eigenvalue);
+        step = step.min({bipenalty_step, bipenalty_step, bipenalty_step});
+      }
     // A damper c with the half-step velocity on a spring-mass of frequency
     // omega and damping ratio xi = c / (2 m omega) is stable for omega dt <=
     // 2 (sqrt(1 + xi^2) - xi). The contact damping is xi of the critical

@@ -15,6 +15,7 @@
 #ifndef isoimpact_contact_h
 #define isoimpact_contact_h
 
+#include <deal.II/base/exceptions.h>
 #include <deal.II/base/tensor.h>
 
 #include <isoimpact/discretization/discretization.h>
@@ -47,6 +48,9 @@ namespace isoimpact
     // 2 sqrt(eps mu) of the penalty spring on the surface mass mu (see
     // SurfaceMassDensity); 0 = none.
     double damping_ratio = 0.;
+    // Bipenalty (Contact/Bipenalty): the mass penalty eps_m per pass, kg/m^2
+    // per unit thickness, set by the scene (set_bipenalty_mass); 0 = none.
+    double bipenalty_mass = 0.;
   };
 
   // A Gauss point of a contact surface where the contact pressure is
@@ -88,6 +92,11 @@ namespace isoimpact
     std::array<std::vector<std::pair<dealii::types::global_dof_index, double>>,
                2>
       nodal_pressures;
+    // Bipenalty: the lumped mass penalty of this evaluation, (unknown, kg/m)
+    // entries for body 0 and body 1 (an unknown may repeat: add them up).
+    std::array<std::vector<std::pair<dealii::types::global_dof_index, double>>,
+               2>
+      penalty_masses;
 
     // The elastic pressure less the contact damping c dg/dt, down to zero
     // (no adhesion); adds the power the damping removes at a point of
@@ -317,11 +326,49 @@ namespace isoimpact
     virtual std::string
     description() const = 0;
 
+    /**
+     * Bipenalty (doc/formulation.md): the mass penalty eps_m (kg/m^2 per
+     * unit thickness) that evaluate() lumps onto the unknowns of every
+     * active Gauss point, and the constant C of the bound
+     * lambda_max(K_c, M_c) <= C / eps_m of the linearised penalty K_c
+     * against that mass M_c, for any active set. A model without it has
+     * C = 0 and refuses eps_m > 0.
+     */
+    virtual void
+    set_bipenalty_mass(const double eps_m);
+    virtual double
+    bipenalty_mass() const;
+    virtual double
+    bipenalty_stiffness() const;
+
     // The penalty spring the model can put on the surface of each of its
     // bodies (entry b for body b of evaluate()).
     virtual std::vector<SurfaceSpring<dim>>
     surface_springs() const = 0;
   };
+
+  template <int dim>
+  inline void
+  ContactModel<dim>::set_bipenalty_mass(const double eps_m)
+  {
+    AssertThrow(eps_m == 0.,
+                dealii::ExcMessage("the contact model '" + description() +
+                                   "' has no bipenalty (mass penalty)"));
+  }
+
+  template <int dim>
+  inline double
+  ContactModel<dim>::bipenalty_mass() const
+  {
+    return 0.;
+  }
+
+  template <int dim>
+  inline double
+  ContactModel<dim>::bipenalty_stiffness() const
+  {
+    return 0.;
+  }
 
   /**
    * Two-pass penalty contact of body 0 and body 1. Pass b takes the Gauss
@@ -359,6 +406,17 @@ namespace isoimpact
     std::string
     description() const override;
 
+    // Mass on both sides of each active pair: eps_m w |R_k| / sum |R| on the
+    // Gauss point's nodes and on the nodes at its projection.
+    void
+    set_bipenalty_mass(const double eps_m) override;
+    double
+    bipenalty_mass() const override;
+    // C = 2 Lambda^2 eps_pass, Lambda = max sum_k |R_k| over the surfaces
+    // (1 for NURBS, 1.25 for quadratic Lagrange faces).
+    double
+    bipenalty_stiffness() const override;
+
     // 4 eps_pass on both surfaces: linearised, a point of one surface and
     // its projection on the other are joined by eps_pass n (x) n, and
     // (a - b)^2 <= 2 a^2 + 2 b^2 splits that into 2 eps_pass on each; each
@@ -390,6 +448,8 @@ namespace isoimpact
 
     ContactSettings        settings;
     std::array<Surface, 2> surfaces;
+    // max over both surfaces of sum_k |R_k| (sampled, see the constructor).
+    double lebesgue_constant = 1.;
   };
 } // namespace isoimpact
 

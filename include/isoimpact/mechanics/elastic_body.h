@@ -116,6 +116,30 @@ namespace isoimpact
     const dealii::Vector<double> &
     lumped_masses() const;
 
+    /**
+     * Bipenalty (lumped mass only): masses (unknown, kg/m; an unknown may
+     * repeat) added to the lumped diagonal that the accelerations use,
+     * replacing those of the previous call; the mass of a hanging unknown
+     * goes to its masters with |weight|, one on a fixed unknown is dropped.
+     * Where a mass changes, the velocity v (the half-step velocity) keeps
+     * the momentum (m + m_p) v_i (default; see set_penalty_switching) or
+     * stays as it is. Returns the kinetic energy the change brought in,
+     * 1/2 sum_i ((m + m_p,new) v_new,i^2 - (m + m_p,old) v_old,i^2).
+     */
+    double
+    set_penalty_masses(
+      const std::vector<std::pair<dealii::types::global_dof_index, double>>
+                             &masses,
+      dealii::Vector<double> &v);
+    // true (default): momentum-conserving change of the penalty masses;
+    // false: the velocity is kept (Contact/Bipenalty switching).
+    void
+    set_penalty_switching(const bool conserve_momentum);
+    // 1/2 x . M_p y with the penalty masses in use.
+    double
+    penalty_kinetic_energy(const dealii::Vector<double> &x,
+                           const dealii::Vector<double> &y) const;
+
     // The state: displacement, velocity and acceleration at the current
     // time, in the unknowns of the discretisation.
     dealii::Vector<double> displacement;
@@ -161,6 +185,11 @@ namespace isoimpact
     mutable dealii::Vector<double> scratch, mass_times_scratch;
     // K u of the last compute_acceleration().
     mutable dealii::Vector<double> stiffness_times_u;
+    // Bipenalty: the condensed penalty masses in use and a dense scratch.
+    std::vector<std::pair<dealii::types::global_dof_index, double>>
+                           penalty_masses;
+    dealii::Vector<double> penalty_scratch, previous_penalty_scratch;
+    bool                   penalty_momentum_switching = true;
   };
 } // namespace isoimpact
 

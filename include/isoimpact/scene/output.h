@@ -124,6 +124,8 @@ namespace isoimpact
     std::ofstream      out;
     std::ostringstream rows;
     std::uintmax_t     written = 0; // bytes of complete rows in the file
+    // Contact/Bipenalty: two more energy columns.
+    bool bipenalty = false;
   };
 
   /**

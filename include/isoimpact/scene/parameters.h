@@ -78,6 +78,13 @@ namespace isoimpact
     // obstacle): k = penalty_scale_factor mu / dt^2 (scene.cc).
     bool   automatic_penalty    = false;
     double penalty_scale_factor = 0.5;
+    // Contact/Bipenalty: a mass penalty eps_m = bipenalty_mass_scale_factor
+    // x the critical one, which keeps the stable step of the bodies without
+    // contact (scene.cc, doc/formulation.md).
+    bool   bipenalty                   = false;
+    double bipenalty_mass_scale_factor = 1.;
+    // Contact/Bipenalty switching: momentum (true) or velocity.
+    bool bipenalty_momentum_switching = true;
 
     // Time integration. With automatic_time_step the step is the safety
     // factor times the guaranteed stable step bound with contact

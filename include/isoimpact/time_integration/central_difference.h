@@ -33,12 +33,19 @@ namespace isoimpact
     double contact = 0.;
     // Work removed by the contact damping since t = 0.
     double contact_damping = 0.;
+    // Bipenalty: the kinetic energy of the mass penalty, 1/2 v^{n-1/2} . M_p
+    // v^{n+1/2} like `kinetic`, and the energy that the mass penalty brought
+    // in since t = 0 as it appeared and vanished (1/2 sum dm v^2 at each
+    // change, at the half-step velocity).
+    double bipenalty_kinetic   = 0.;
+    double bipenalty_switching = 0.;
     // What the input energy should equal: the energies plus the work
-    // removed.
+    // removed, less the energy the mass penalty brought in.
     double
     total() const
     {
-      return kinetic + strain + contact + contact_damping;
+      return kinetic + strain + contact + contact_damping + bipenalty_kinetic -
+             bipenalty_switching;
     }
   };
 
@@ -111,7 +118,13 @@ namespace isoimpact
     std::vector<std::vector<dealii::Vector<double> *>>       contact_forces;
     // Work of the contact damping since t = 0: dt times its power at each
     // step (the power with the half-step velocities the damping uses).
-    double                          contact_damping_work = 0.;
+    double contact_damping_work = 0.;
+    // Bipenalty: sum of the bodies' set_penalty_masses() since t = 0, and
+    // per body the penalty masses of the last evaluation.
+    double bipenalty_switching_work = 0.;
+    bool   bipenalty                = false;
+    std::vector<std::vector<std::pair<dealii::types::global_dof_index, double>>>
+                                    body_penalty_masses;
     std::vector<ContactResult<dim>> results;
   };
 } // namespace isoimpact

@@ -27,7 +27,12 @@ namespace isoimpact
   /**
    * The stable step of a scene: each body with the penalty springs of the
    * contacts it takes part in (times contact_activation_margin), the
-   * minimum over the bodies.
+   * minimum over the bodies. A contact with a bipenalty caps the steps by
+   * 2 / sqrt(margin C / eps_m) (ContactModel::bipenalty_stiffness): for the
+   * linearised system lambda_max(K + K_c, M + M_c) <= max(lambda_max(K, M),
+   * lambda_max(K_c, M_c)) (the mediant of the Rayleigh quotients), so the
+   * springs could be left out, but runs at the bodies' step blow up through
+   * the contact's activation (doc/formulation.md): the springs stay.
    */
   template <int dim>
   StableTimeStep
