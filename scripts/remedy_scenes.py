@@ -9,9 +9,12 @@ scripts/contact_measures.py and writes OUTPUT_DIR/remedy_scenes.csv.
 With --sweep instead: the benchmark scene only, for the damping ratios
 0, 0.05, 0.1, 0.2, 0.3, 0.5. With --penalty-auto: the benchmark scene,
 undamped, with Contact/Penalty = auto at scale factors 0.1, 0.5, 1 (the
-damping_ratio column then holds the scale factor).
+damping_ratio column then holds the scale factor). With --redistribution:
+the scenes without and with Contact/Mass redistribution (undamped; the
+damping_ratio column then holds "plain" or "redistribution").
 
-usage: python3 scripts/remedy_scenes.py PROGRAM OUTPUT_DIR [DAMPING_RATIO | --sweep]"""
+usage: python3 scripts/remedy_scenes.py PROGRAM OUTPUT_DIR [DAMPING_RATIO | --sweep | --penalty-auto |
+       --redistribution]"""
 import csv
 import os
 import subprocess
@@ -50,9 +53,12 @@ def main():
     program, work = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     sweep = "--sweep" in sys.argv
     penalty_auto = "--penalty-auto" in sys.argv
-    xi = sys.argv[3] if len(sys.argv) > 3 and not (sweep or penalty_auto) else "0.2"
+    redistribution = "--redistribution" in sys.argv
+    xi = sys.argv[3] if len(sys.argv) > 3 and not (sweep or penalty_auto or redistribution) \
+        else "0.2"
     ratios = ["0", "0.05", "0.1", "0.2", "0.3", "0.5"] if sweep else \
-        ["0.1", "0.5", "1"] if penalty_auto else ["0", xi]
+        ["0.1", "0.5", "1"] if penalty_auto else \
+        ["plain", "redistribution"] if redistribution else ["0", xi]
     scenes = {"benchmark": {}} if (sweep or penalty_auto) else SCENES
     os.makedirs(work, exist_ok=True)
     rows = []
@@ -64,7 +70,9 @@ def main():
                 folder = os.path.join(work, name)
                 setting = {"Contact/Penalty": "auto", "Contact/Damping ratio": "0",
                            "Contact/Penalty scale factor": damping} if penalty_auto \
-                    else {"Contact/Damping ratio": damping}
+                    else {"Contact/Damping ratio": "0", "Contact/Mass redistribution":
+                          "true" if damping == "redistribution" else "false"} \
+                    if redistribution else {"Contact/Damping ratio": damping}
                 prm = edit_prm(os.path.join(ROOT, base), folder + ".prm", {
                     **edits, **setting,
                     "Time integration/Time step": "auto",
@@ -84,7 +92,8 @@ def main():
             "profile_rms_percent_p0", "energy_error_percent",
             "damping_work_percent", "contact_duration_s", "wall_time_s"]
     with open(os.path.join(work, "remedy_sweep.csv" if sweep else "penalty_auto.csv"
-                           if penalty_auto else "remedy_scenes.csv"),
+                           if penalty_auto else "redistribution_scenes.csv"
+                           if redistribution else "remedy_scenes.csv"),
               "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
         writer.writeheader()

@@ -203,7 +203,8 @@ namespace isoimpact
                   segment_used.end(),
                 ExcMessage("a contact segment of " + body.name() +
                            " lies in no element: stable step bound failed"));
-    if (element_bound_applies)
+    // With mass redistribution the element masses are not the ones in use.
+    if (element_bound_applies && body.massless_dofs().empty())
       result.element_bound = time_step_from_eigenvalue(element_lambda);
 
     // Gershgorin on M^{-1} (K + K_c) for a diagonal mass.
@@ -214,7 +215,9 @@ namespace isoimpact
         double      lambda    = 0.;
         for (types::global_dof_index i = 0; i < stiffness.m(); ++i)
           {
-            if (constraints.is_constrained(i))
+            // Massless unknowns (mass redistribution) are not part of the
+            // explicit system: M_I^{-1} K_II bounds it (see below).
+            if (constraints.is_constrained(i) || mass(i) == 0.)
               continue;
             // Both matrices share the sparsity pattern: walk them together.
             double row_sum = 0.;

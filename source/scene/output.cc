@@ -526,11 +526,20 @@ namespace isoimpact
       out << "# the model is a half by symmetry: contact_force and "
              "energies are those of the model times "
           << scene.symmetry_factor << "\n";
+    with_boundary_solve = parameters.mass_redistribution;
+    if (with_boundary_solve)
+      out << "# mass redistribution: kinetic_energy is that of the interior "
+             "unknowns (the contact surfaces are massless); "
+             "boundary_solve_work [1] is the number of contact evaluations "
+             "(Newton residuals) of the quasi-static boundary solve in the "
+             "step of the row\n";
     out << "time,contact_force,max_contact_pressure,max_gauss_point_pressure,"
            "kinetic_energy,"
            "strain_energy,contact_energy,contact_damping_work,total_energy";
     if (scene.reference)
       out << ",analytic_contact_force,analytic_max_contact_pressure";
+    if (with_boundary_solve)
+      out << ",boundary_solve_work";
     out << '\n';
     rows << std::setprecision(10);
     flush();
@@ -575,7 +584,8 @@ namespace isoimpact
                        const double         contact_force,
                        const double         max_pressure,
                        const double         max_gauss_point_pressure,
-                       const EnergyBalance &energy)
+                       const EnergyBalance &energy,
+                       const unsigned int   boundary_solve_work)
   {
     const double factor = scene.symmetry_factor;
     rows << time << ',' << contact_force << ',' << max_pressure << ','
@@ -585,6 +595,8 @@ namespace isoimpact
     if (scene.reference)
       rows << ',' << scene.reference->contact_force(time) << ','
            << scene.reference->max_contact_pressure(time);
+    if (with_boundary_solve)
+      rows << ',' << boundary_solve_work;
     rows << '\n';
     // Whole rows only reach the file: a killed run leaves complete ones.
     if (rows.tellp() > (1 << 16))

@@ -317,6 +317,17 @@ namespace isoimpact
       "[0, 1]; 0 = none. It damps the contact chatter; the stable step "
       "bound is reduced by sqrt(1 + xi^2) - xi. Applies to every contact, "
       "rigid obstacles included (doc/formulation.md).");
+    prm.declare_entry(
+      "Mass redistribution",
+      "false",
+      Patterns::Bool(),
+      "Chatter remedy: the unknowns of the contact surfaces carry no mass "
+      "(their lumped mass goes to the interior unknowns next to them, total "
+      "mass and centre of mass kept) and are solved from quasi-static "
+      "equilibrium every step (Newton with the contact tangent). Lumped "
+      "mass (row-sum, HRZ) only, not with Damping ratio > 0 nor with Local "
+      "refinements > 0; the stable step is that of the interior "
+      "(doc/formulation.md).");
     prm.leave_subsection();
 
     prm.enter_subsection("Obstacle");
@@ -522,6 +533,7 @@ namespace isoimpact
       penalty_per_pass_names.from_string(prm.get("Penalty per pass"));
     contact.n_quadrature_points = prm.get_integer("Quadrature points per face");
     contact.damping_ratio       = prm.get_double("Damping ratio");
+    mass_redistribution         = prm.get_bool("Mass redistribution");
     prm.leave_subsection();
 
     prm.enter_subsection("Obstacle");
@@ -620,6 +632,28 @@ namespace isoimpact
             "row-sum lumping of the serendipity element gives negative "
             "corner masses (-1/12 of the element mass); use HRZ or "
             "consistent");
+    if (parameters.mass_redistribution)
+      {
+        require(parameters.mass_scheme != MassScheme::consistent,
+                "Mass matrix/Scheme",
+                "consistent",
+                "'Contact/Mass redistribution = true' needs a lumped mass "
+                "(row-sum or HRZ): it moves lumped nodal masses; set "
+                "Mass redistribution = false or a lumped scheme");
+        require(parameters.contact.damping_ratio == 0.,
+                "Contact/Damping ratio",
+                parameters.contact.damping_ratio,
+                "it must be 0 with 'Contact/Mass redistribution = true' "
+                "(two remedies of the same chatter; the massless surface "
+                "has no velocity of its own to damp)");
+        for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
+          require(parameters.bodies[b].geometry.local_refinements == 0,
+                  "Discretization/Local refinements",
+                  parameters.bodies[b].geometry.local_refinements,
+                  "it must be 0 with 'Contact/Mass redistribution = true' "
+                  "(hanging nodes on the contact surface are not "
+                  "supported)");
+      }
     // With an obstacle Body 2 is ignored: not checked either.
     for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
       {

@@ -78,6 +78,10 @@ namespace isoimpact
     // obstacle): k = penalty_scale_factor mu / dt^2 (scene.cc).
     bool   automatic_penalty    = false;
     double penalty_scale_factor = 0.5;
+    // Contact/Mass redistribution: massless contact surfaces solved
+    // quasi-statically (mechanics/mass_redistribution.h,
+    // time_integration/quasi_static_boundary.h).
+    bool mass_redistribution = false;
 
     // Time integration. With automatic_time_step the step is the safety
     // factor times the guaranteed stable step bound with contact
