@@ -81,43 +81,92 @@ namespace isoimpact
         AssertThrow(receiver_mass > 0.,
                     ExcMessage("mass redistribution: no interior unknowns "
                                "next to the contact surface"));
-        const Tensor<1, dim> center = receiver_moment / receiver_mass;
-        FullMatrix<double>   inertia(dim, dim);
+        // Exponential tilt: dm_i = m_S w_i / W, w_i = m_i exp(beta . d_i),
+        // d_i = (X_i - target) / L, target = S_S / m_S, so that every
+        // receiver gains mass; beta minimises log sum_i m_i exp(beta . d_i)
+        // (convex; its gradient is the weighted mean of d, zero when the
+        // receivers take the first moment S_S). Newton with halving.
+        std::vector<types::global_dof_index> own;
         for (const auto i : result.receivers)
           if (discretization.dof_component(i) == c)
+            own.push_back(i);
+        const Point<dim> target(surface_moment / surface_mass);
+        double           length = 0.;
+        for (const auto i : own)
+          length =
+            std::max(length, discretization.dof_position(i).distance(target));
+        std::vector<Tensor<1, dim>> d(own.size());
+        for (unsigned int k = 0; k < own.size(); ++k)
+          d[k] = (discretization.dof_position(own[k]) - target) / length;
+        std::vector<double> w(own.size());
+        const auto          weigh = [&](const Tensor<1, dim> &beta,
+                               Tensor<1, dim>       &mean,
+                               FullMatrix<double>   &covariance) {
+          double largest = -1e300;
+          for (unsigned int k = 0; k < own.size(); ++k)
+            largest = std::max(largest, beta * d[k]);
+          double sum = 0.;
+          mean       = Tensor<1, dim>();
+          for (unsigned int k = 0; k < own.size(); ++k)
             {
-              const Tensor<1, dim> d = discretization.dof_position(i) - center;
-              for (unsigned int a = 0; a < dim; ++a)
-                for (unsigned int b = 0; b < dim; ++b)
-                  inertia(a, b) += lumped(i) * d[a] * d[b];
+              w[k] = lumped(own[k]) * std::exp(beta * d[k] - largest);
+              sum += w[k];
+              mean += w[k] * d[k];
             }
-        // sum dm_i = a M_R = m_S; sum dm_i X_i = a M_R Xbar + I b = S_S.
-        const double   a   = surface_mass / receiver_mass;
-        Tensor<1, dim> rhs = surface_moment - a * receiver_mass * center;
-        AssertThrow(inertia.determinant() > 0.,
-                    ExcMessage("mass redistribution: the unknowns next to "
-                               "the contact surface lie on a line"));
-        FullMatrix<double> inverse(dim, dim);
-        inverse.invert(inertia);
-        Tensor<1, dim> b;
-        for (unsigned int p = 0; p < dim; ++p)
-          for (unsigned int q = 0; q < dim; ++q)
-            b[p] += inverse(p, q) * rhs[q];
-        for (const auto i : result.receivers)
-          if (discretization.dof_component(i) == c)
-            {
-              const double factor =
-                1. + a + b * (discretization.dof_position(i) - center);
-              AssertThrow(factor > 0.,
-                          ExcMessage("mass redistribution: the unknown " +
-                                     std::to_string(i) +
-                                     " would get a non-positive mass "
-                                     "(factor " +
-                                     std::to_string(factor) +
-                                     "); the mesh next to the contact "
-                                     "surface is too distorted"));
-              result.masses(i) = lumped(i) * factor;
-            }
+          mean /= sum;
+          covariance = 0.;
+          for (unsigned int k = 0; k < own.size(); ++k)
+            for (unsigned int a = 0; a < dim; ++a)
+              for (unsigned int b = 0; b < dim; ++b)
+                covariance(a, b) +=
+                  w[k] * (d[k][a] - mean[a]) * (d[k][b] - mean[b]) / sum;
+          return std::log(sum) + largest;
+        };
+        Tensor<1, dim>     beta, mean, trial_mean;
+        FullMatrix<double> covariance(dim, dim), trial_covariance(dim, dim);
+        double             value     = weigh(beta, mean, covariance);
+        bool               converged = false;
+        for (unsigned int iteration = 0; iteration < 100; ++iteration)
+          {
+            if (mean.norm() <= 1e-15)
+              {
+                converged = true;
+                break;
+              }
+            FullMatrix<double> inverse(dim, dim);
+            AssertThrow(covariance.determinant() > 0.,
+                        ExcMessage("mass redistribution: the unknowns next "
+                                   "to the contact surface lie on a line"));
+            inverse.invert(covariance);
+            Tensor<1, dim> step;
+            for (unsigned int a = 0; a < dim; ++a)
+              for (unsigned int b = 0; b < dim; ++b)
+                step[a] -= inverse(a, b) * mean[b];
+            double alpha = 1.;
+            for (unsigned int cut = 0; cut < 30; ++cut, alpha *= 0.5)
+              {
+                const double trial =
+                  weigh(beta + alpha * step, trial_mean, trial_covariance);
+                if (trial <= value + 1e-4 * alpha * (mean * step) ||
+                    trial_mean.norm() < mean.norm())
+                  {
+                    value = trial;
+                    break;
+                  }
+              }
+            beta += alpha * step;
+            value = weigh(beta, mean, covariance);
+          }
+        AssertThrow(converged,
+                    ExcMessage("mass redistribution: the centre of mass of "
+                               "the contact surface lies outside the unknowns "
+                               "next to it; the first moment cannot be kept "
+                               "with positive masses"));
+        double sum = 0.;
+        for (const double wk : w)
+          sum += wk;
+        for (unsigned int k = 0; k < own.size(); ++k)
+          result.masses(own[k]) = lumped(own[k]) + surface_mass * w[k] / sum;
         for (const auto i : result.massless)
           if (discretization.dof_component(i) == c)
             result.masses(i) = 0.;

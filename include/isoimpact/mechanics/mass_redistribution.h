@@ -31,12 +31,14 @@ namespace isoimpact
    * Takes the lumped masses `lumped` (per unknown) off the unconstrained
    * unknowns of the segments `surface` (their node_dofs) and adds them to
    * the receivers, per displacement component c, as
-   *   dm_i = m_i (a_c + b_c . (X_i - Xbar_c)),
-   * Xbar_c the receivers' centre of mass, with a_c and b_c such that the
-   * receivers take the surface's mass and first moment sum m_i X_i exactly
-   * (X_i = Discretization::dof_position). Constrained unknowns keep their
-   * masses. Throws if a new mass would not be positive or the receivers'
-   * moment of inertia is singular.
+   *   dm_i = m_S w_i / sum_j w_j,   w_i = m_i exp(beta_c . (X_i - Xs_c) / L),
+   * m_S and Xs_c the surface's mass and centre of mass, L the largest
+   * |X_i - Xs_c|, with beta_c (Newton) such that the receivers take the
+   * surface's first moment sum m_b X_b exactly (X = dof_position). Every
+   * receiver gains mass (dm_i > 0), so the total mass and the first moment
+   * are kept and no mass shrinks. Constrained unknowns keep their masses.
+   * Throws if the surface's centre of mass is not inside the receivers'
+   * hull (no positive tilt exists).
    */
   template <int dim>
   MassRedistribution
