@@ -428,8 +428,9 @@ namespace isoimpact
                                lumped_mass,
                                body_constraints,
                                surface);
-    lumped_mass = redistribution.masses;
-    massless    = redistribution.massless;
+    mass_before_redistribution = lumped_mass;
+    lumped_mass                = redistribution.masses;
+    massless                   = redistribution.massless;
     for (unsigned int i = 0; i < lumped_mass.size(); ++i)
       inverse_lumped_mass(i) = (lumped_mass(i) > 0.) ? 1. / lumped_mass(i) : 0.;
     step_inverse_mass = inverse_lumped_mass;
@@ -442,6 +443,13 @@ namespace isoimpact
   ElasticBody<dim>::massless_dofs() const
   {
     return massless;
+  }
+
+  template <int dim>
+  const Vector<double> &
+  ElasticBody<dim>::lumped_masses_before_redistribution() const
+  {
+    return mass_before_redistribution;
   }
 
   template class ElasticBody<2>;

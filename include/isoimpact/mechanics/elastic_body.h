@@ -130,6 +130,9 @@ namespace isoimpact
     // The massless unknowns after redistribute_mass() (sorted; else empty).
     const std::vector<dealii::types::global_dof_index> &
     massless_dofs() const;
+    // The lumped masses before redistribute_mass() (empty if none).
+    const dealii::Vector<double> &
+    lumped_masses_before_redistribution() const;
 
     // The state: displacement, velocity and acceleration at the current
     // time, in the unknowns of the discretisation.
@@ -173,6 +176,7 @@ namespace isoimpact
     // inverse masses zeroed on the constrained rows.
     bool                                         fused_lumped_step = false;
     std::vector<dealii::types::global_dof_index> massless;
+    dealii::Vector<double>                       mass_before_redistribution;
     dealii::Vector<double>                       step_inverse_mass;
     mutable dealii::Vector<double>               scratch, mass_times_scratch;
     // K u of the last compute_acceleration().
