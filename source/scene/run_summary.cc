@@ -263,6 +263,8 @@ namespace isoimpact
                {"back_substitutions", w.substitutions},
                {"factorizations", w.factorizations},
                {"step_cuts", w.step_cuts},
+               {"loose_solves", w.loose_solves},
+               {"stalled_solves", w.stalled_solves},
                {"contact_evaluations_per_step", w.evaluations / steps},
                {"factorizations_per_step", w.factorizations / steps},
                {"max_contact_evaluations_per_step", w.max_evaluations},

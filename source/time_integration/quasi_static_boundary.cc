@@ -213,7 +213,18 @@ namespace isoimpact
     unsigned int iteration = 0;
     for (;; ++iteration)
       {
-        if (norm <= tolerance * scale)
+        // A point whose projection switches segments or whose gap crosses
+        // zero makes r_b non-smooth, and Newton may stall just above the
+        // tolerance: after 20 iterations 100 times the tolerance is
+        // accepted (counted in the work).
+        const bool loose = iteration >= 20 && norm <= 100. * tolerance * scale;
+        statistics.loose_solves += loose && !(norm <= tolerance * scale);
+        // A stall beyond that: accepted at max_iterations if within 1e4
+        // times the tolerance (counted), else the run stops.
+        const bool stalled = iteration >= max_iterations && !loose &&
+                             norm <= 1e4 * tolerance * scale;
+        statistics.stalled_solves += stalled;
+        if (norm <= tolerance * scale || loose || stalled)
           {
             if (!evaluated)
               // The forces of the integrator must be those of u_b now.

@@ -35,11 +35,15 @@ namespace isoimpact
   // The work of the boundary solve, summed over the steps.
   struct BoundarySolveWork
   {
-    std::uint64_t solves             = 0;  // one per time step
-    std::uint64_t evaluations        = 0;  // contact evaluations (residuals)
-    std::uint64_t substitutions      = 0;  // back-substitutions (Newton steps)
-    std::uint64_t factorizations     = 0;  // LDL^T factorisations
-    std::uint64_t step_cuts          = 0;  // halvings of a Newton step
+    std::uint64_t solves         = 0; // one per time step
+    std::uint64_t evaluations    = 0; // contact evaluations (residuals)
+    std::uint64_t substitutions  = 0; // back-substitutions (Newton steps)
+    std::uint64_t factorizations = 0; // LDL^T factorisations
+    std::uint64_t step_cuts      = 0; // halvings of a Newton step
+    // Solves accepted at 100 times the tolerance after 20 iterations.
+    std::uint64_t loose_solves = 0;
+    // Solves accepted after max_iterations within 1e4 times the tolerance.
+    std::uint64_t stalled_solves     = 0;
     unsigned int  max_evaluations    = 0;  // of one solve
     unsigned int  last_evaluations   = 0;  // of the last solve
     double        max_residual_ratio = 0.; // |r| / scale at convergence
