@@ -9,7 +9,9 @@ scripts/contact_measures.py and writes OUTPUT_DIR/remedy_scenes.csv.
 With --sweep instead: the benchmark scene only, for the damping ratios
 0, 0.05, 0.1, 0.2, 0.3, 0.5. With --penalty-auto: the benchmark scene,
 undamped, with Contact/Penalty = auto at scale factors 0.1, 0.5, 1 (the
-damping_ratio column then holds the scale factor).
+damping_ratio column then holds the scale factor). With --redistribution:
+the scenes without and with Contact/Mass redistribution (undamped; the
+damping_ratio column then holds "plain" or "redistribution").
 
 With --bipenalty: the benchmark scene only, undamped, without and with
 Contact/Bipenalty, momentum and velocity switching (the damping_ratio
@@ -22,7 +24,11 @@ switching brought in, in % of the input energy). With --bipenalty --auto
 the same at the automatic step of each run (OUTPUT_DIR/bipenalty.csv too:
 use another OUTPUT_DIR).
 
-usage: python3 scripts/remedy_scenes.py PROGRAM OUTPUT_DIR [DAMPING_RATIO | --sweep | --penalty-auto | --bipenalty]"""
+With --redistribution: every scene without and with Contact/Mass
+redistribution at the automatic step (OUTPUT_DIR/redistribution_scenes.csv).
+
+usage: python3 scripts/remedy_scenes.py PROGRAM OUTPUT_DIR [DAMPING_RATIO | --sweep | --penalty-auto |
+       --bipenalty [--auto] | --redistribution]"""
 import csv
 import json
 import os
@@ -83,12 +89,13 @@ def main():
     sweep = "--sweep" in sys.argv
     penalty_auto = "--penalty-auto" in sys.argv
     bipenalty = "--bipenalty" in sys.argv
-    xi = sys.argv[3] if len(sys.argv) > 3 and not (sweep or penalty_auto or bipenalty) \
+    redistribution = "--redistribution" in sys.argv
+    xi = sys.argv[3] if len(sys.argv) > 3 and not (sweep or penalty_auto or bipenalty or redistribution) \
         else "0.2"
     ratios = ["0", "0.05", "0.1", "0.2", "0.3", "0.5"] if sweep else \
         ["0.1", "0.5", "1"] if penalty_auto else \
-        ["plain", "bipenalty", "bipenalty_velocity"] if bipenalty \
-        else ["0", xi]
+        ["plain", "bipenalty", "bipenalty_velocity"] if bipenalty else \
+        ["plain", "redistribution"] if redistribution else ["0", xi]
     scenes = {"benchmark": {}} if (sweep or penalty_auto or bipenalty) else SCENES
     os.makedirs(work, exist_ok=True)
     rows = []
@@ -104,7 +111,9 @@ def main():
                           "Contact/Bipenalty": str(damping != "plain").lower(),
                           "Contact/Bipenalty switching":
                           "velocity" if damping == "bipenalty_velocity" else "momentum"} \
-                    if bipenalty else {"Contact/Damping ratio": damping}
+                    if bipenalty else {"Contact/Damping ratio": "0", "Contact/Mass redistribution":
+                                       "true" if damping == "redistribution" else "false"} \
+                    if redistribution else {"Contact/Damping ratio": damping}
                 step = {"Time integration/Time step": "5e-4",
                         "Time integration/Allow time step above the stable estimate":
                         "true"} if bipenalty and "--auto" not in sys.argv else {
@@ -135,6 +144,7 @@ def main():
                  "bipenalty_switching_max_percent"]
     with open(os.path.join(work, "remedy_sweep.csv" if sweep else "penalty_auto.csv"
                            if penalty_auto else "bipenalty.csv" if bipenalty
+                           else "redistribution_scenes.csv" if redistribution
                            else "remedy_scenes.csv"),
               "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")

@@ -27,7 +27,7 @@ corner masses) is listed with its status and left out of the fronts.
 
 usage: python3 scripts/tradeoff_study.py PROGRAM OUTPUT_DIR
          [--levels 2 3 4 5 6] [--families "FEA Q9" "FEA Q8" "IGA p2" "IGA p3"]
-         [--masses consistent row-sum HRZ] [--remedies plain damping [bipenalty]]
+         [--masses consistent row-sum HRZ] [--remedies plain damping [bipenalty] [redistribution]]
          [--end-time 0.9] [--skip-run] [--reuse]
 The defaults are the full study (doc/tradeoff.md says how long it takes)."""
 import argparse
@@ -69,6 +69,7 @@ REMEDIES = {
     "damping": {"Contact/Damping ratio": "0.2"},
     # Lumped mass only: the program refuses it with the consistent mass.
     "bipenalty": {"Contact/Bipenalty": "true"},
+    "redistribution": {"Contact/Mass redistribution": "true"},
 }
 # The error measures: (csv column, axis label), each in %.
 MEASURES = [

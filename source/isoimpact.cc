@@ -181,6 +181,15 @@ namespace isoimpact
           << " cells (checked against the available memory)\n"
           << std::setprecision(6);
     pcout << "  contact: " << scene.contacts[0]->description() << '\n';
+    if (parameters.mass_redistribution)
+      {
+        pcout << "  mass redistribution: massless contact surfaces (";
+        for (const auto &body : scene.bodies)
+          pcout << body->massless_dofs().size()
+                << (&body == &scene.bodies.back() ? "" : ", ");
+        pcout << " unknowns), solved quasi-statically; the stable step is "
+                 "that of the interior\n";
+      }
     if (parameters.obstacle.active())
       pcout << "  scene reduction: Body 1 against a rigid obstacle; Body 2 "
                "is ignored\n";
@@ -327,11 +336,15 @@ namespace isoimpact
         if (!failure.empty())
           return failure;
         step.total_energy = scene.symmetry_factor * energy.total();
-        history->write(step.time,
-                       step.contact_force,
-                       step.max_pressure,
-                       result.max_gauss_point_pressure,
-                       energy);
+        history->write(
+          step.time,
+          step.contact_force,
+          step.max_pressure,
+          result.max_gauss_point_pressure,
+          energy,
+          integrator->quasi_static_boundary() ?
+            integrator->quasi_static_boundary()->work().last_evaluations :
+            0);
       }
     summary->add_step(step);
 
@@ -504,6 +517,11 @@ namespace isoimpact
     facts.total_wall_time     = std::chrono::duration<double>(
                               std::chrono::steady_clock::now() - start_of_run)
                               .count();
+    if (const auto *boundary = integrator->quasi_static_boundary())
+      {
+        facts.boundary_solve      = boundary->work();
+        facts.n_massless_unknowns = boundary->n_unknowns();
+      }
     if (!failure.empty())
       {
         facts.status      = "unstable";

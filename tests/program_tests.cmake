@@ -190,3 +190,11 @@ add_test(NAME tradeoff_front
     $<TARGET_FILE:isoimpact_program> ${CMAKE_SOURCE_DIR}/scripts/tradeoff_study.py
     ${_work}/tradeoff_front)
 set_tests_properties(tradeoff_front PROPERTIES TIMEOUT 600)
+
+# The mass redistribution remedy (issue 11) on the coarse meshes, FEA and
+# IGA: chatter, force trend peak, energy balance, stable step, solve work.
+add_test(NAME mass_redistribution_remedy
+  COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/mass_redistribution_remedy.py
+    $<TARGET_FILE:isoimpact_program> ${CMAKE_CURRENT_SOURCE_DIR}/prm
+    ${_work}/mass_redistribution_remedy)
+set_tests_properties(mass_redistribution_remedy PROPERTIES TIMEOUT 900)

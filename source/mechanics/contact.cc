@@ -770,6 +770,24 @@ namespace isoimpact
                 add_mass(segment, point.shape_values, body);
                 add_mass(other_segment, r, other);
               }
+            if (this->linearize)
+              {
+                auto &tangent = result.linearization;
+                tangent.add_term(eps * point.weight,
+                                 (std::uint64_t(body) << 63) |
+                                   (std::uint64_t(q) << 31) |
+                                   projection.segment);
+                tangent.add_gradient(segment,
+                                     point.shape_values,
+                                     projection.normal,
+                                     1.,
+                                     body);
+                tangent.add_gradient(other_segment,
+                                     r,
+                                     projection.normal,
+                                     -1.,
+                                     other);
+              }
             point_pressure[body][q] = 2. * pressure;
             point_gap[body][q]      = gap;
             result.add_active_point(2. * pressure,

@@ -495,5 +495,51 @@ namespace isoimpact
     return 0.5 * energy;
   }
 
+  template <int dim>
+  void
+  ElasticBody<dim>::redistribute_mass(
+    const std::vector<BoundarySegment<dim>> &surface)
+  {
+    AssertThrow(scheme != MassScheme::consistent,
+                ExcMessage("mass redistribution of " + body_name +
+                           " needs a lumped mass (row-sum or HRZ); the "
+                           "consistent mass is not supported"));
+    for (const auto &line : body_constraints.get_lines())
+      AssertThrow(line.entries.empty() && line.inhomogeneity == 0.,
+                  ExcMessage("mass redistribution of " + body_name +
+                             " supports constraints u_i = 0 only (no "
+                             "hanging nodes: no local refinement)"));
+    AssertThrow(massless.empty(),
+                ExcMessage("the mass of " + body_name +
+                           " is redistributed already"));
+    const MassRedistribution redistribution =
+      redistribute_lumped_mass(*discretization_ptr,
+                               lumped_mass,
+                               body_constraints,
+                               surface);
+    mass_before_redistribution = lumped_mass;
+    lumped_mass                = redistribution.masses;
+    massless                   = redistribution.massless;
+    for (unsigned int i = 0; i < lumped_mass.size(); ++i)
+      inverse_lumped_mass(i) = (lumped_mass(i) > 0.) ? 1. / lumped_mass(i) : 0.;
+    step_inverse_mass = inverse_lumped_mass;
+    for (const auto &line : body_constraints.get_lines())
+      step_inverse_mass(line.index) = 0.;
+  }
+
+  template <int dim>
+  const std::vector<types::global_dof_index> &
+  ElasticBody<dim>::massless_dofs() const
+  {
+    return massless;
+  }
+
+  template <int dim>
+  const Vector<double> &
+  ElasticBody<dim>::lumped_masses_before_redistribution() const
+  {
+    return mass_before_redistribution;
+  }
+
   template class ElasticBody<2>;
 } // namespace isoimpact

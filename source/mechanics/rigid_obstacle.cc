@@ -173,6 +173,16 @@ namespace isoimpact
           }
         const Tensor<1, dim> force = pressure * point.weight * n;
         distribute_point_force(segment, point.shape_values, force, *forces[0]);
+        if (this->linearize)
+          {
+            // grad g = R_k n (the obstacle's curvature term left out).
+            result.linearization.add_term(eps * point.weight, q);
+            result.linearization.add_gradient(segment,
+                                              point.shape_values,
+                                              n,
+                                              1.,
+                                              0);
+          }
         point_pressure[q] = pressure;
         point_gap[q]      = g;
         result.add_active_point(pressure,

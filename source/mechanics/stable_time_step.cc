@@ -156,6 +156,9 @@ namespace isoimpact
                                                 segment_springs[s].dofs.end()),
                               s);
     std::vector<bool> segment_used(segment_springs.size(), false);
+    const bool        redistributed = !body.massless_dofs().empty();
+    const auto       &before = body.lumped_masses_before_redistribution();
+    const auto       &now    = body.lumped_masses();
     bool              element_bound_applies = true;
     double            element_lambda        = 0.;
     for_each_element<dim>(
@@ -167,10 +170,31 @@ namespace isoimpact
           const FullMatrix<double>                   &element_mass) {
         FullMatrix<double>        stiffness = element_stiffness;
         std::vector<unsigned int> free_rows;
+        // Mass redistribution: the element's share of the new masses is
+        // D M_e D, D = sqrt(m_new / m_old) per unknown (the shares still
+        // add up to the lumped mass), and the massless unknowns are left
+        // out: K_ii = sum_e of the elements' interior blocks bounds the
+        // interior's stiffness whatever the contact (formulation.md).
+        FullMatrix<double> mass = element_mass;
+        if (redistributed)
+          for (unsigned int i = 0; i < indices.size(); ++i)
+            {
+              const double old_mass = before(indices[i]);
+              const double scale =
+                old_mass > 0. ? std::sqrt(now(indices[i]) / old_mass) : 1.;
+              for (unsigned int j = 0; j < indices.size(); ++j)
+                {
+                  mass(i, j) *= scale;
+                  mass(j, i) *= scale;
+                }
+            }
         for (unsigned int i = 0; i < indices.size(); ++i)
           {
             if (!constraints.is_constrained(indices[i]))
-              free_rows.push_back(i);
+              {
+                if (!(redistributed && now(indices[i]) == 0.))
+                  free_rows.push_back(i);
+              }
             else if (!constraints.get_constraint_entries(indices[i])->empty())
               element_bound_applies &= !lumped;
             const auto range = segments_by_dof.equal_range(indices[i]);
@@ -197,7 +221,7 @@ namespace isoimpact
         if (!free_rows.empty())
           element_lambda =
             std::max(element_lambda,
-                     largest_eigenvalue(stiffness, element_mass, free_rows));
+                     largest_eigenvalue(stiffness, mass, free_rows));
       });
     AssertThrow(std::find(segment_used.begin(), segment_used.end(), false) ==
                   segment_used.end(),
@@ -214,7 +238,9 @@ namespace isoimpact
         double      lambda    = 0.;
         for (types::global_dof_index i = 0; i < stiffness.m(); ++i)
           {
-            if (constraints.is_constrained(i))
+            // Massless unknowns (mass redistribution) are not part of the
+            // explicit system: M_I^{-1} K_II bounds it (see below).
+            if (constraints.is_constrained(i) || mass(i) == 0.)
               continue;
             // Both matrices share the sparsity pattern: walk them together.
             double row_sum = 0.;

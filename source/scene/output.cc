@@ -674,6 +674,13 @@ namespace isoimpact
              "vanished; total_energy = kinetic + strain + contact + "
              "contact_damping_work + bipenalty_kinetic_energy - "
              "bipenalty_switching_work\n";
+    with_boundary_solve = parameters.mass_redistribution;
+    if (with_boundary_solve)
+      out << "# mass redistribution: kinetic_energy is that of the interior "
+             "unknowns (the contact surfaces are massless); "
+             "boundary_solve_work [1] is the number of contact evaluations "
+             "(Newton residuals) of the quasi-static boundary solve in the "
+             "step of the row\n";
     out << "time,contact_force,max_contact_pressure,max_gauss_point_pressure,"
            "kinetic_energy,"
            "strain_energy,contact_energy,contact_damping_work,";
@@ -683,6 +690,8 @@ namespace isoimpact
     out << "total_energy";
     if (scene.reference)
       out << ",analytic_contact_force,analytic_max_contact_pressure";
+    if (with_boundary_solve)
+      out << ",boundary_solve_work";
     out << '\n';
     rows << std::setprecision(10);
     flush();
@@ -727,7 +736,8 @@ namespace isoimpact
                        const double         contact_force,
                        const double         max_pressure,
                        const double         max_gauss_point_pressure,
-                       const EnergyBalance &energy)
+                       const EnergyBalance &energy,
+                       const unsigned int   boundary_solve_work)
   {
     const double factor = scene.symmetry_factor;
     rows << time << ',' << contact_force << ',' << max_pressure << ','
@@ -745,6 +755,8 @@ namespace isoimpact
         rows << ',' << force << ','
              << scene.reference->peak_pressure_of_force(force);
       }
+    if (with_boundary_solve)
+      rows << ',' << boundary_solve_work;
     rows << '\n';
     // Whole rows only reach the file: a killed run leaves complete ones.
     if (rows.tellp() > (1 << 16))

@@ -343,6 +343,17 @@ namespace isoimpact
                       "keeps v (the mass comes with the node's velocity and "
                       "pumps momentum into the contact when it chatters; "
                       "doc/formulation.md).");
+    prm.declare_entry(
+      "Mass redistribution",
+      "false",
+      Patterns::Bool(),
+      "Chatter remedy: the unknowns of the contact surfaces carry no mass "
+      "(their lumped mass goes to the interior unknowns next to them, total "
+      "mass and centre of mass kept) and are solved from quasi-static "
+      "equilibrium every step (Newton with the contact tangent). Lumped "
+      "mass (row-sum, HRZ) only, not with Damping ratio > 0 nor with Local "
+      "refinements > 0; the stable step is that of the interior "
+      "(doc/formulation.md).");
     prm.leave_subsection();
 
     prm.enter_subsection("Obstacle");
@@ -558,6 +569,7 @@ namespace isoimpact
     bipenalty                   = prm.get_bool("Bipenalty");
     bipenalty_mass_scale_factor = prm.get_double("Bipenalty mass scale factor");
     bipenalty_momentum_switching = prm.get("Bipenalty switching") == "momentum";
+    mass_redistribution          = prm.get_bool("Mass redistribution");
     prm.leave_subsection();
 
     prm.enter_subsection("Obstacle");
@@ -682,6 +694,34 @@ namespace isoimpact
             "row-sum lumping of the serendipity element gives negative "
             "corner masses (-1/12 of the element mass); use HRZ or "
             "consistent");
+    if (parameters.mass_redistribution)
+      {
+        require(parameters.mass_scheme != MassScheme::consistent,
+                "Mass matrix/Scheme",
+                "consistent",
+                "'Contact/Mass redistribution = true' needs a lumped mass "
+                "(row-sum or HRZ): it moves lumped nodal masses; set "
+                "Mass redistribution = false or a lumped scheme");
+        require(parameters.contact.damping_ratio == 0.,
+                "Contact/Damping ratio",
+                parameters.contact.damping_ratio,
+                "it must be 0 with 'Contact/Mass redistribution = true' "
+                "(two remedies of the same chatter; the massless surface "
+                "has no velocity of its own to damp)");
+        for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
+          require(parameters.bodies[b].geometry.local_refinements == 0,
+                  "Discretization/Local refinements",
+                  parameters.bodies[b].geometry.local_refinements,
+                  "it must be 0 with 'Contact/Mass redistribution = true' "
+                  "(hanging nodes on the contact surface are not "
+                  "supported)");
+        require(!parameters.bipenalty,
+                "Contact/Bipenalty",
+                "true",
+                "it cannot be combined with 'Contact/Mass redistribution = "
+                "true' (the mass penalty would sit on massless unknowns): "
+                "set one of them off");
+      }
     // With an obstacle Body 2 is ignored: not checked either.
     for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
       {

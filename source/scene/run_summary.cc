@@ -251,8 +251,27 @@ namespace isoimpact
                                               {"time_loop", facts.time_loop_wall_time},
                                               {"output", facts.output_wall_time},
                                               {"total", facts.total_wall_time}};
-    summary["symmetry_factor"]             = scene.symmetry_factor;
-    summary["obstacle"]                    = parameters.obstacle.type;
+    summary["mass_redistribution"]         = parameters.mass_redistribution;
+    if (facts.boundary_solve)
+      {
+        const BoundarySolveWork &w     = *facts.boundary_solve;
+        const double             steps = std::max<double>(1., double(w.solves));
+        summary["boundary_solve"]      = {
+               {"massless_unknowns", facts.n_massless_unknowns},
+               {"solves", w.solves},
+               {"contact_evaluations", w.evaluations},
+               {"back_substitutions", w.substitutions},
+               {"factorizations", w.factorizations},
+               {"step_cuts", w.step_cuts},
+               {"loose_solves", w.loose_solves},
+               {"stalled_solves", w.stalled_solves},
+               {"contact_evaluations_per_step", w.evaluations / steps},
+               {"factorizations_per_step", w.factorizations / steps},
+               {"max_contact_evaluations_per_step", w.max_evaluations},
+               {"max_relative_residual", w.max_residual_ratio}};
+      }
+    summary["symmetry_factor"] = scene.symmetry_factor;
+    summary["obstacle"]        = parameters.obstacle.type;
 
     const auto filtered_force             = filtered_peak_force().first;
     summary["peak_contact_force_N_per_m"] = peak_force();

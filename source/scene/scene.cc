@@ -550,6 +550,17 @@ namespace isoimpact
           scene.contacts[c]->set_surface_masses(model_masses);
         }
 
+    // Mass redistribution, after the surface masses of Penalty = auto were
+    // taken: the surfaces become massless and the contact models return
+    // their tangent for the quasi-static boundary solve.
+    if (parameters.mass_redistribution)
+      {
+        for (unsigned int b = 0; b < scene.bodies.size(); ++b)
+          scene.bodies[b]->redistribute_mass(surfaces[b]);
+        for (auto &contact : scene.contacts)
+          contact->set_linearize(true);
+      }
+
     if (relative.norm() > 0.)
       scene.impact_direction = relative / relative.norm();
     else

@@ -3,6 +3,8 @@
 
 #include <isoimpact/time_integration/central_difference.h>
 
+#include <algorithm>
+
 using namespace dealii;
 
 namespace isoimpact
@@ -50,13 +52,26 @@ namespace isoimpact
             contact_forces.back().push_back(&forces[b]);
           }
       }
+    // Mass redistribution: the contact models must return their tangent
+    // (ContactModel::set_linearize, done by the scene).
+    if (std::any_of(bodies.begin(), bodies.end(), [](const auto *body) {
+          return !body->massless_dofs().empty();
+        }))
+      {
+        for (const auto &interaction : contacts)
+          AssertThrow(interaction.contact->damping_ratio() == 0.,
+                      ExcMessage("mass redistribution does not support "
+                                 "contact damping"));
+        boundary = std::make_unique<QuasiStaticBoundary<dim>>(bodies,
+                                                              contacts,
+                                                              forces,
+                                                              results);
+      }
   }
 
   template <int dim>
   void
-  CentralDifference<dim>::compute_accelerations(
-    const bool record_contact_points,
-    const bool update_velocities)
+  CentralDifference<dim>::evaluate_contacts(const bool record_contact_points)
   {
     for (auto &f : forces)
       f = 0.;
@@ -65,6 +80,28 @@ namespace isoimpact
                                                  contact_velocities[c],
                                                  contact_forces[c],
                                                  record_contact_points);
+  }
+
+  template <int dim>
+  void
+  CentralDifference<dim>::compute_accelerations(
+    const bool record_contact_points,
+    const bool update_velocities)
+  {
+    if (boundary)
+      {
+        // u_b in equilibrium with u_i; the forces and results are those of
+        // the solution.
+        boundary->solve(
+          [this](const bool record) {
+            evaluate_contacts(record);
+          },
+          record_contact_points);
+        if (update_velocities)
+          boundary->set_velocities(half_step_velocity, dt);
+      }
+    else
+      evaluate_contacts(record_contact_points);
     if (bipenalty)
       {
         // The mass penalty of the new active set, at the half-step velocity
@@ -194,6 +231,13 @@ namespace isoimpact
   CentralDifference<dim>::contact_results() const
   {
     return results;
+  }
+
+  template <int dim>
+  const QuasiStaticBoundary<dim> *
+  CentralDifference<dim>::quasi_static_boundary() const
+  {
+    return boundary.get();
   }
 
   template class CentralDifference<2>;

@@ -50,6 +50,20 @@ cases.update({
     "q8_with_iga": ({**q8, "Discretization/Method": "iga"},
                     ["Discretization/FEA element", "serendipity", "Method = fea"]),
 })
+# Mass redistribution (Contact/Mass redistribution) with what it does not
+# support.
+redistribute = {"Contact/Mass redistribution": "true"}
+cases.update({
+    "redistribution_consistent": ({**redistribute, "Mass matrix/Scheme": "consistent"},
+                                  ["Mass matrix/Scheme", "consistent", "lumped mass"]),
+    "redistribution_damping": ({**redistribute, "Contact/Damping ratio": "0.2"},
+                               ["Contact/Damping ratio", "0.2", "Mass redistribution"]),
+    "redistribution_local_refinement": ({**redistribute,
+                                         "Discretization/Local refinements": "1"},
+                                        ["Local refinements", "1", "hanging nodes"]),
+    "redistribution_bipenalty": ({**redistribute, "Contact/Bipenalty": "true"},
+                                 ["Contact/Bipenalty", "true", "Mass redistribution"]),
+})
 # The file itself: empty, keys set twice (deal.II would take the last),
 # broken structure.
 empty = ["sets no parameter", "--print-parameters"]

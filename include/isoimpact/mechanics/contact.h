@@ -22,6 +22,7 @@
 #include <isoimpact/nurbs/enum_names.h>
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -69,6 +70,64 @@ namespace isoimpact
     unsigned int body; // whose Gauss point: 0 or 1, the model's order
   };
 
+  /**
+   * The Gauss-Newton tangent of the penalty forces of one evaluation (the
+   * gap's normal, projection and weights frozen): each active Gauss point t
+   * adds k_t grad g_t grad g_t^T to the stiffness, k_t = eps_pass w_t and
+   * grad g_t the gradient of its gap with respect to the unknowns (R_k n on
+   * the point's own nodes, -R_l n on the nodes of its projection). Filled by
+   * ContactModel::evaluate() only after set_linearize(true).
+   */
+  struct ContactLinearization
+  {
+    // One entry of a gap gradient: the body (model order), the unknown and
+    // the derivative of the gap.
+    struct Entry
+    {
+      unsigned int                    body;
+      dealii::types::global_dof_index dof;
+      double                          value;
+    };
+    std::vector<Entry>        entries;
+    std::vector<unsigned int> term_begin; // entries of term t: [t], [t + 1]
+    std::vector<double>       stiffness;  // k_t
+    // Per term: its Gauss point and the segment it projects on; equal
+    // signatures mean the same active set.
+    std::vector<std::uint64_t> signature;
+
+    unsigned int
+    n_terms() const
+    {
+      return stiffness.size();
+    }
+    // Starts a term; its entries follow with add_gradient().
+    void
+    add_term(const double k, const std::uint64_t id)
+    {
+      if (term_begin.empty())
+        term_begin.push_back(0);
+      stiffness.push_back(k);
+      signature.push_back(id);
+      term_begin.push_back(entries.size());
+    }
+    // Adds sign * R_k n over the nodes of `segment` to the last term.
+    template <int dim>
+    void
+    add_gradient(const BoundarySegment<dim>   &segment,
+                 const std::vector<double>    &shape_values,
+                 const dealii::Tensor<1, dim> &normal,
+                 const double                  sign,
+                 const unsigned int            body)
+    {
+      for (unsigned int k = 0; k < shape_values.size(); ++k)
+        for (unsigned int d = 0; d < dim; ++d)
+          entries.push_back({body,
+                             segment.node_dofs[k][d],
+                             sign * shape_values[k] * normal[d]});
+      term_begin.back() = entries.size();
+    }
+  };
+
   // What a contact model reports for one evaluation. Bodies are numbered in
   // the order the model takes them (0, or 0 and 1).
   template <int dim>
@@ -97,6 +156,8 @@ namespace isoimpact
     std::array<std::vector<std::pair<dealii::types::global_dof_index, double>>,
                2>
       penalty_masses;
+    // After ContactModel::set_linearize(true): the tangent of the forces.
+    ContactLinearization linearization;
 
     // The elastic pressure less the contact damping c dg/dt, down to zero
     // (no adhesion); adds the power the damping removes at a point of
@@ -340,11 +401,22 @@ namespace isoimpact
     bipenalty_mass() const;
     virtual double
     bipenalty_stiffness() const;
+    // With true, evaluate() also returns the Gauss-Newton tangent of the
+    // undamped penalty forces (ContactResult::linearization), which the
+    // quasi-static boundary of mass redistribution needs.
+    void
+    set_linearize(const bool on)
+    {
+      linearize = on;
+    }
 
     // The penalty spring the model can put on the surface of each of its
     // bodies (entry b for body b of evaluate()).
     virtual std::vector<SurfaceSpring<dim>>
     surface_springs() const = 0;
+
+  protected:
+    bool linearize = false;
   };
 
   template <int dim>

@@ -6,6 +6,7 @@
 #include <deal.II/lac/precondition.h>
 
 #include <isoimpact/mechanics/assembly.h>
+#include <isoimpact/mechanics/mass_redistribution.h>
 #include <isoimpact/mechanics/mass_solver.h>
 
 #include <memory>
@@ -140,6 +141,23 @@ namespace isoimpact
     penalty_kinetic_energy(const dealii::Vector<double> &x,
                            const dealii::Vector<double> &y) const;
 
+    /**
+     * Mass redistribution (mechanics/mass_redistribution.h): the unknowns of
+     * `surface` become massless, their mass goes to the interior unknowns
+     * next to them (total mass and first moment kept). Lumped mass only,
+     * without hanging-node constraints; throws otherwise. The massless
+     * unknowns then get zero acceleration from compute_acceleration(): the
+     * time integrator must set them (quasi-static boundary).
+     */
+    void
+    redistribute_mass(const std::vector<BoundarySegment<dim>> &surface);
+    // The massless unknowns after redistribute_mass() (sorted; else empty).
+    const std::vector<dealii::types::global_dof_index> &
+    massless_dofs() const;
+    // The lumped masses before redistribute_mass() (empty if none).
+    const dealii::Vector<double> &
+    lumped_masses_before_redistribution() const;
+
     // The state: displacement, velocity and acceleration at the current
     // time, in the unknowns of the discretisation.
     dealii::Vector<double> displacement;
@@ -180,9 +198,11 @@ namespace isoimpact
     double                               cg_tolerance = 0.;
     // Lumped mass with constraints u_i = 0 alone: the fused step, with the
     // inverse masses zeroed on the constrained rows.
-    bool                           fused_lumped_step = false;
-    dealii::Vector<double>         step_inverse_mass;
-    mutable dealii::Vector<double> scratch, mass_times_scratch;
+    bool                                         fused_lumped_step = false;
+    std::vector<dealii::types::global_dof_index> massless;
+    dealii::Vector<double>                       mass_before_redistribution;
+    dealii::Vector<double>                       step_inverse_mass;
+    mutable dealii::Vector<double>               scratch, mass_times_scratch;
     // K u of the last compute_acceleration().
     mutable dealii::Vector<double> stiffness_times_u;
     // Bipenalty: the condensed penalty masses in use and a dense scratch.

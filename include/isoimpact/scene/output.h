@@ -116,9 +116,12 @@ namespace isoimpact
           const double         contact_force,
           const double         max_pressure,
           const double         max_gauss_point_pressure,
-          const EnergyBalance &energy);
+          const EnergyBalance &energy,
+          const unsigned int   boundary_solve_work = 0);
 
   private:
+    // Contact/Mass redistribution: the column boundary_solve_work.
+    bool               with_boundary_solve = false;
     const Scene       &scene;
     const std::string  path;
     std::ofstream      out;

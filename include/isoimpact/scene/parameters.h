@@ -85,6 +85,10 @@ namespace isoimpact
     double bipenalty_mass_scale_factor = 1.;
     // Contact/Bipenalty switching: momentum (true) or velocity.
     bool bipenalty_momentum_switching = true;
+    // Contact/Mass redistribution: massless contact surfaces solved
+    // quasi-statically (mechanics/mass_redistribution.h,
+    // time_integration/quasi_static_boundary.h).
+    bool mass_redistribution = false;
 
     // Time integration. With automatic_time_step the step is the safety
     // factor times the guaranteed stable step bound with contact

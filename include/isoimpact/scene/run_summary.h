@@ -83,6 +83,9 @@ namespace isoimpact
     double      total_wall_time     = 0.;
     std::string status              = "completed";
     std::string stop_reason;
+    // Contact/Mass redistribution: the work of the quasi-static boundary.
+    std::optional<BoundarySolveWork> boundary_solve;
+    unsigned int                     n_massless_unknowns = 0;
   };
 
   class RunSummary

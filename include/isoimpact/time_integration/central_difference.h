@@ -4,12 +4,17 @@
 //   a^{n+1}   = M^{-1} (f_c(u^{n+1}) - K u^{n+1}),
 // started with v^{1/2} = v^0 + dt/2 a^0. The velocity at whole steps, used
 // for the kinetic energy and the output, is v^n = v^{n-1/2} + dt/2 a^n.
+// With mass redistribution the massless unknowns of the contact surfaces are
+// not advanced: after u_i^{n+1} they are solved from equilibrium
+// (QuasiStaticBoundary), and their velocity is (u_b^{n+1} - u_b^n) / dt.
 #ifndef isoimpact_central_difference_h
 #define isoimpact_central_difference_h
 
 #include <isoimpact/mechanics/contact.h>
 #include <isoimpact/mechanics/elastic_body.h>
+#include <isoimpact/time_integration/quasi_static_boundary.h>
 
+#include <memory>
 #include <vector>
 
 namespace isoimpact
@@ -97,7 +102,15 @@ namespace isoimpact
     const std::vector<ContactResult<dim>> &
     contact_results() const;
 
+    // With mass redistribution (a body with massless unknowns): the
+    // quasi-static boundary solve and its work; else nullptr.
+    const QuasiStaticBoundary<dim> *
+    quasi_static_boundary() const;
+
   private:
+    // Zeroes the forces and evaluates every contact into them and results.
+    void
+    evaluate_contacts(const bool record_contact_points);
     void
     compute_accelerations(const bool record_contact_points,
                           const bool update_velocities = false);
@@ -126,6 +139,8 @@ namespace isoimpact
     std::vector<std::vector<std::pair<dealii::types::global_dof_index, double>>>
                                     body_penalty_masses;
     std::vector<ContactResult<dim>> results;
+    // Mass redistribution: the massless unknowns in equilibrium.
+    std::unique_ptr<QuasiStaticBoundary<dim>> boundary;
   };
 } // namespace isoimpact
 
