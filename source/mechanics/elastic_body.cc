@@ -312,6 +312,30 @@ namespace isoimpact
 
   template <int dim>
   double
+  ElasticBody<dim>::kinetic_energy_at_full_step(const Vector<double> &v,
+                                                const double          dt) const
+  {
+    if (scheme == MassScheme::consistent)
+      {
+        scratch_previous_velocity = v;
+        scratch_previous_velocity.add(-dt, acceleration);
+        return kinetic_energy(scratch_previous_velocity, v);
+      }
+    AssertDimension(v.size(), lumped_mass.size());
+    AssertDimension(acceleration.size(), lumped_mass.size());
+    double energy = 0.;
+    for (unsigned int i = 0; i < lumped_mass.size(); ++i)
+      energy += (v[i] - dt * acceleration[i]) * lumped_mass[i] * v[i];
+    for (const auto &line : body_constraints.get_lines())
+      {
+        const unsigned int i = line.index;
+        energy -= (v[i] - dt * acceleration[i]) * lumped_mass[i] * v[i];
+      }
+    return 0.5 * energy;
+  }
+
+  template <int dim>
+  double
   ElasticBody<dim>::strain_energy(const Vector<double> &u) const
   {
     scratch = u;
@@ -330,7 +354,11 @@ namespace isoimpact
     // K is condensed: constrained rows hold only their diagonal and the
     // other rows have zeros in constrained columns, so dropping the
     // constrained entries gives u_0 . K u_0 with u_0 = u constrained zero.
-    double energy = u * stiffness_times_u;
+    // A plain loop: deal.II's parallel dot costs more than the sum at this
+    // size, and the history calls this every step.
+    double energy = 0.;
+    for (unsigned int i = 0; i < u.size(); ++i)
+      energy += u[i] * stiffness_times_u[i];
     for (const auto &line : body_constraints.get_lines())
       energy -= u[line.index] * stiffness_times_u[line.index];
     return 0.5 * energy;

@@ -77,6 +77,13 @@ namespace isoimpact
     double
     kinetic_energy(const dealii::Vector<double> &x,
                    const dealii::Vector<double> &y) const;
+    // 1/2 (v - dt a) . M v with the body's acceleration a: the kinetic
+    // energy of central differences at a full step from the half-step
+    // velocity v = v^{n+1/2}; one pass for a lumped mass (the history
+    // computes it every step).
+    double
+    kinetic_energy_at_full_step(const dealii::Vector<double> &v,
+                                const double                  dt) const;
     double
     strain_energy(const dealii::Vector<double> &u) const;
     // strain_energy(u) from the product K u that the last call of
@@ -202,7 +209,8 @@ namespace isoimpact
     std::vector<dealii::types::global_dof_index> massless;
     dealii::Vector<double>                       mass_before_redistribution;
     dealii::Vector<double>                       step_inverse_mass;
-    mutable dealii::Vector<double>               scratch, mass_times_scratch;
+    mutable dealii::Vector<double>               scratch, mass_times_scratch,
+      scratch_previous_velocity;
     // K u of the last compute_acceleration().
     mutable dealii::Vector<double> stiffness_times_u;
     // Bipenalty: the condensed penalty masses in use and a dense scratch.

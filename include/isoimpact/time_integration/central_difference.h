@@ -14,6 +14,7 @@
 #include <isoimpact/mechanics/elastic_body.h>
 #include <isoimpact/time_integration/quasi_static_boundary.h>
 
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -122,7 +123,11 @@ namespace isoimpact
     unsigned int                         step         = 0;
     std::vector<dealii::Vector<double>>  half_step_velocity;
     mutable dealii::Vector<double>       previous_half_step_velocity;
-    std::vector<dealii::Vector<double>>  forces;
+    // kinetic_energy() of the current step (the stability monitor and the
+    // history both ask for it); NaN once the state has moved on.
+    mutable double kinetic_energy_of_step =
+      std::numeric_limits<double>::quiet_NaN();
+    std::vector<dealii::Vector<double>> forces;
     // Per contact interaction, built once: its bodies' displacements and
     // force vectors, in the order the contact model expects.
     std::vector<std::vector<const dealii::Vector<double> *>>
