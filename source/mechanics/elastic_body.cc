@@ -290,19 +290,6 @@ namespace isoimpact
   ElasticBody<dim>::kinetic_energy(const Vector<double> &x,
                                    const Vector<double> &y) const
   {
-    if (scheme != MassScheme::consistent)
-      {
-        // Lumped: one pass (the history computes this every step);
-        // constrained entries do not count, as below.
-        AssertDimension(x.size(), lumped_mass.size());
-        AssertDimension(y.size(), lumped_mass.size());
-        double energy = 0.;
-        for (unsigned int i = 0; i < lumped_mass.size(); ++i)
-          energy += x[i] * lumped_mass[i] * y[i];
-        for (const auto &line : body_constraints.get_lines())
-          energy -= x[line.index] * lumped_mass[line.index] * y[line.index];
-        return 0.5 * energy;
-      }
     // mass_vmult zeroes the constrained entries of y; the rows of M for
     // them are then zero, so those of x do not count either.
     mass_times_scratch.reinit(y.size(), true);
