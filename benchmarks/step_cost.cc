@@ -114,14 +114,19 @@ main(int argc, char **argv)
           solve_time = std::min(solve_time, timer.wall_time() / n_steps);
         }
 
-      std::size_t nonzeros = 0, factor_nonzeros = 0, factor_bytes = 0;
-      double      factor_setup = 0.;
+      std::size_t nonzeros = 0, factor_nonzeros = 0, factor_bytes = 0,
+                  factor_entries = 0;
+      unsigned int n_factors = 0, n_subtrees = 0;
+      double       factor_setup = 0.;
       for (const auto &body : scene.bodies)
         {
           nonzeros += body->stiffness_matrix().n_nonzero_elements();
           if (const auto *solver = body->consistent_mass_solver())
             {
               factor_nonzeros += solver->factor_nonzeros();
+              factor_entries += solver->factor_stored_entries();
+              n_factors += solver->n_factors();
+              n_subtrees += solver->n_parallel_subtrees();
               factor_bytes += solver->memory_consumption();
               factor_setup += solver->setup_time();
             }
@@ -142,8 +147,10 @@ main(int argc, char **argv)
       if (factor_nonzeros > 0)
         std::cout << "mass factorisation   " << factor_setup << " s, "
                   << factor_nonzeros << " nonzeros (" << factor_nonzeros / n
-                  << " per unknown), " << factor_bytes / n
-                  << " bytes per unknown\n"
+                  << " per unknown; " << factor_entries / n << " stored), "
+                  << factor_bytes / n << " bytes per unknown, " << n_factors
+                  << " factors, " << n_subtrees
+                  << " subtrees solved side by side\n"
                   << "mass solve alone     " << 1e3 * solve_time << " ms ("
                   << 1e9 * solve_time / n << " ns per unknown)\n";
       std::cout << "peak memory (VmHWM)  " << peak / n << " bytes per unknown\n"
@@ -164,6 +171,8 @@ main(int argc, char **argv)
                 << " peak_bytes=" << peak / n
                 << " factor_bytes=" << factor_bytes / n
                 << " factor_nnz=" << factor_nonzeros / n
+                << " factor_entries=" << factor_entries / n
+                << " factors=" << n_factors << " subtrees=" << n_subtrees
                 << " factor_setup_s=" << factor_setup
                 << " setup_s=" << setup_time << std::endl;
     }

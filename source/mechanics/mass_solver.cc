@@ -1,6 +1,7 @@
-// Layer 4: consistent mass solve by a sparse Cholesky factorisation per
+// Layer 4: consistent mass solve by supernodal sparse Cholesky factors per
 // displacement component (CHOLMOD).
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/multithread_info.h>
 #include <deal.II/base/thread_management.h>
 #include <deal.II/base/timer.h>
 
@@ -9,6 +10,8 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <climits>
+#include <numeric>
 #include <string>
 #include <tuple>
 
@@ -16,35 +19,340 @@ using namespace dealii;
 
 namespace isoimpact
 {
+  namespace
+  {
+    using Index = types::global_dof_index;
+
+    // One component's block of the mass matrix in the component's own
+    // numbering: the lower triangle row by row, and which rows carry a
+    // diagonal entry only.
+    struct Block
+    {
+      std::vector<std::tuple<Index, Index, double>> lower;
+      std::vector<bool>                             diagonal_only;
+      std::vector<double>                           diagonal;
+      std::size_t                                   n_diagonal_only = 0;
+    };
+
+    // Whether a and b are equal once the rows and columns marked in skip
+    // are removed.
+    bool
+    equal_outside(const Block &a, const Block &b, const std::vector<bool> &skip)
+    {
+      auto       ia = a.lower.begin(), ib = b.lower.begin();
+      const auto skipped = [&skip](const auto &entry) {
+        return skip[std::get<0>(entry)] || skip[std::get<1>(entry)];
+      };
+      for (;;)
+        {
+          while (ia != a.lower.end() && skipped(*ia))
+            ++ia;
+          while (ib != b.lower.end() && skipped(*ib))
+            ++ib;
+          if (ia == a.lower.end() || ib == b.lower.end())
+            return ia == a.lower.end() && ib == b.lower.end();
+          if (*ia != *ib)
+            return false;
+          ++ia;
+          ++ib;
+        }
+    }
+
+    // The rows of `block` that are diagonal-only there but not in `ref`.
+    std::vector<bool>
+    extra_diagonal_rows(const Block &block, const Block &ref)
+    {
+      std::vector<bool> rows(block.diagonal_only.size());
+      for (std::size_t r = 0; r < rows.size(); ++r)
+        rows[r] = block.diagonal_only[r] && !ref.diagonal_only[r];
+      return rows;
+    }
+
+    // The lower triangle of `block` restricted to the rows with
+    // position[r] >= 0, renumbered to position[r], as a CHOLMOD matrix.
+    cholmod_sparse *
+    to_cholmod(const Block            &block,
+               const std::vector<int> &position,
+               const int               size,
+               cholmod_common         *common)
+    {
+      std::size_t n_entries = 0;
+      for (const auto &[row, column, value] : block.lower)
+        n_entries += (position[row] >= 0 && position[column] >= 0);
+      cholmod_triplet *triplet = cholmod_allocate_triplet(size,
+                                                          size,
+                                                          n_entries,
+                                                          -1,
+                                                          CHOLMOD_REAL,
+                                                          common);
+      AssertThrow(triplet != nullptr,
+                  ExcMessage("CHOLMOD could not allocate the mass block"));
+      auto       *rows    = static_cast<int *>(triplet->i);
+      auto       *columns = static_cast<int *>(triplet->j);
+      auto       *values  = static_cast<double *>(triplet->x);
+      std::size_t k       = 0;
+      for (const auto &[row, column, value] : block.lower)
+        if (position[row] >= 0 && position[column] >= 0)
+          {
+            // Lower triangle of the renumbered matrix.
+            rows[k]    = std::max(position[row], position[column]);
+            columns[k] = std::min(position[row], position[column]);
+            values[k]  = value;
+            ++k;
+          }
+      triplet->nnz      = n_entries;
+      cholmod_sparse *A = cholmod_triplet_to_sparse(triplet, 0, common);
+      cholmod_free_triplet(&triplet, common);
+      AssertThrow(A != nullptr,
+                  ExcMessage("CHOLMOD could not convert the mass block"));
+      return A;
+    }
+
+    // Supernode s of a supernodal factor: columns [k1, k1 + n_cols) as a
+    // dense column-major block of n_rows rows, the diagonal block (rows
+    // k1...) first, then the n_below rows `rows` below it.
+    struct Supernode
+    {
+      int           k1, n_cols, n_rows, n_below;
+      const int    *rows;
+      const double *block;
+
+      Supernode(const cholmod_factor &L, const int s)
+      {
+        const auto *super = static_cast<const int *>(L.super);
+        const auto *pi    = static_cast<const int *>(L.pi);
+        k1                = super[s];
+        n_cols            = super[s + 1] - k1;
+        n_rows            = pi[s + 1] - pi[s];
+        n_below           = n_rows - n_cols;
+        rows              = static_cast<const int *>(L.s) + pi[s] + n_cols;
+        block =
+          static_cast<const double *>(L.x) + static_cast<const int *>(L.px)[s];
+      }
+
+      const double *
+      column(const int j) const
+      {
+        return block + std::size_t(j) * n_rows;
+      }
+    };
+
+    // Forward substitution L z = y over the supernodes [s_begin, s_end),
+    // nc right-hand sides interleaved in y. Updates of rows >=
+    // separator_column go to `separator` (a subtree's private share of the
+    // rows its task does not own) instead of y. `work` holds n_below * nc
+    // values.
+    template <int nc>
+    void
+    forward(const cholmod_factor &L,
+            const int             s_begin,
+            const int             s_end,
+            double *__restrict y,
+            double *__restrict work,
+            const int separator_column,
+            double *__restrict separator)
+    {
+      for (int s = s_begin; s < s_end; ++s)
+        {
+          const Supernode node(L, s);
+          double *__restrict z = y + std::size_t(node.k1) * nc;
+          for (int i = 0; i < node.n_below * nc; ++i)
+            work[i] = 0.;
+          for (int j = 0; j < node.n_cols; ++j)
+            {
+              const double *__restrict column = node.column(j);
+              double zj[nc];
+              for (int c = 0; c < nc; ++c)
+                zj[c] = (z[j * nc + c] /= column[j]);
+              for (int r = j + 1; r < node.n_cols; ++r)
+                for (int c = 0; c < nc; ++c)
+                  z[r * nc + c] -= column[r] * zj[c];
+              const double *__restrict lower = column + node.n_cols;
+              for (int r = 0; r < node.n_below; ++r)
+                for (int c = 0; c < nc; ++c)
+                  work[r * nc + c] += lower[r] * zj[c];
+            }
+          for (int r = 0; r < node.n_below; ++r)
+            {
+              const int row = node.rows[r];
+              double   *target =
+                row >= separator_column ?
+                    separator + std::size_t(row - separator_column) * nc :
+                    y + std::size_t(row) * nc;
+              for (int c = 0; c < nc; ++c)
+                target[c] -= work[r * nc + c];
+            }
+        }
+    }
+
+    // Backward substitution L^T x = z over the supernodes [s_begin, s_end),
+    // last first; the rows below them must be final. `work` holds
+    // n_below * nc values.
+    template <int nc>
+    void
+    backward(const cholmod_factor &L,
+             const int             s_begin,
+             const int             s_end,
+             double *__restrict y,
+             double *__restrict work)
+    {
+      for (int s = s_end - 1; s >= s_begin; --s)
+        {
+          const Supernode node(L, s);
+          double *__restrict x = y + std::size_t(node.k1) * nc;
+          for (int r = 0; r < node.n_below; ++r)
+            for (int c = 0; c < nc; ++c)
+              work[r * nc + c] = y[std::size_t(node.rows[r]) * nc + c];
+          for (int j = node.n_cols - 1; j >= 0; --j)
+            {
+              const double *__restrict column = node.column(j);
+              const double *__restrict lower  = column + node.n_cols;
+              double sum[nc]                  = {};
+              for (int r = 0; r < node.n_below; ++r)
+                for (int c = 0; c < nc; ++c)
+                  sum[c] += lower[r] * work[r * nc + c];
+              for (int r = j + 1; r < node.n_cols; ++r)
+                for (int c = 0; c < nc; ++c)
+                  sum[c] += column[r] * x[r * nc + c];
+              for (int c = 0; c < nc; ++c)
+                x[j * nc + c] = (x[j * nc + c] - sum[c]) / column[j];
+            }
+        }
+    }
+  } // namespace
+
   // One factor and the components that share it.
   struct ComponentMassSolver::Factor
   {
-    // Unknowns of each component that uses this factor, in the order of the
-    // factor's rows.
-    std::vector<std::vector<types::global_dof_index>> dofs;
-    cholmod_common                                    common;
-    cholmod_factor                                   *L = nullptr;
-    // Row k of the permuted system is unknown dofs[c][perm[k]] of
-    // component c.
-    std::vector<int> perm;
-    // Work: the right-hand sides, interleaved by component.
-    mutable std::vector<double> y;
+    cholmod_common  common;
+    cholmod_factor *L = nullptr;
+    // Components sharing the factor.
+    unsigned int n_components = 0;
+    // Row k of the factor, its c-th component, is unknown
+    // gather[k * n_components + c]; rows k >= leading[c] are not the
+    // component's (invalid index): its diagonal-only rows, solved apart.
+    std::vector<Index> gather;
+    std::vector<int>   leading;
+    // (unknown, diagonal entry) of the diagonal-only rows left out.
+    std::vector<std::pair<Index, double>> diagonal_rows;
+    // The elimination tree split for parallel substitution: supernodes
+    // [task_begin[t], task_begin[t + 1]) are the independent subtrees of
+    // task t, supernodes from task_begin.back() on (the separator, first
+    // column separator_column) the rows they share. One task: no split.
+    std::vector<int> task_begin;
+    int              separator_column = INT_MAX;
+    // Work: right-hand sides interleaved by component; per task the rows
+    // below one supernode and the task's updates of the separator rows.
+    mutable std::vector<double>              y;
+    mutable std::vector<std::vector<double>> below;
+    mutable std::vector<std::vector<double>> separator_updates;
 
     Factor()
     {
       cholmod_start(&common);
-      // METIS nested dissection: on 2D meshes its fill grows like
-      // n log n, less than AMD's at 1e5 unknowns and more.
-      common.nmethods           = 1;
-      common.method[0].ordering = CHOLMOD_METIS;
-      common.postorder          = 1;
-      common.print              = 0;
+      common.print = 0;
+      // Supernodal: dense column blocks with one row index per block row,
+      // so the substitutions stream through the values. Less relaxed
+      // amalgamation than CHOLMOD's default (zeros would cost bandwidth in
+      // every solve, and the factorisation is done once).
+      common.supernodal = CHOLMOD_SUPERNODAL;
+      common.zrelax[0]  = 0.05;
+      common.zrelax[1]  = 0.02;
+      common.zrelax[2]  = 0.01;
     }
 
     ~Factor()
     {
       cholmod_free_factor(&L, &common);
       cholmod_finish(&common);
+    }
+
+    unsigned int
+    n_tasks() const
+    {
+      return task_begin.size() - 1;
+    }
+
+    // Splits the supernodal elimination tree: below the chain of
+    // supernodes from the root down to the first branching, the subtrees
+    // are independent; they are grouped, contiguous in the postorder, into
+    // at most n_groups tasks of about equal size.
+    void
+    split_tree(const unsigned int n_groups)
+    {
+      const int   n_super = L->nsuper;
+      const auto *super   = static_cast<const int *>(L->super);
+      const auto *pi      = static_cast<const int *>(L->pi);
+      const auto *px      = static_cast<const int *>(L->px);
+      const auto *Ls      = static_cast<const int *>(L->s);
+      task_begin          = {0, n_super};
+      if (n_groups < 2 || n_super < 2)
+        return;
+      std::vector<int> column_supernode(L->n);
+      for (int s = 0; s < n_super; ++s)
+        for (int k = super[s]; k < super[s + 1]; ++k)
+          column_supernode[k] = s;
+      // Parent: the supernode of the first row below the diagonal block.
+      std::vector<std::vector<int>> children(n_super + 1);
+      std::vector<std::size_t>      subtree_size(n_super, 1);
+      std::vector<double>           subtree_entries(n_super, 0.);
+      for (int s = 0; s < n_super; ++s)
+        {
+          const int n_cols = super[s + 1] - super[s];
+          const int parent = (pi[s + 1] - pi[s] > n_cols) ?
+                               column_supernode[Ls[pi[s] + n_cols]] :
+                               n_super; // a root: child of a virtual node
+          AssertThrow(parent > s, ExcInternalError());
+          children[parent].push_back(s);
+          subtree_entries[s] += px[s + 1] - px[s];
+          if (parent < n_super)
+            {
+              subtree_size[parent] += subtree_size[s];
+              subtree_entries[parent] += subtree_entries[s];
+            }
+        }
+      // Down the chain from the (virtual) root to the first branching.
+      int branch = n_super;
+      while (children[branch].size() == 1)
+        branch = children[branch][0];
+      const std::vector<int> &subtrees = children[branch];
+      if (subtrees.size() < 2)
+        return;
+      // The chain must be the supernodes [branch, n_super) (branch itself
+      // too unless virtual) and the subtrees must tile [0, branch) in
+      // order, as they do in a postordered tree.
+      const int separator = (branch == n_super) ? n_super : branch;
+      int       next      = 0;
+      for (const int s : subtrees)
+        {
+          if (s + 1 - int(subtree_size[s]) != next)
+            return;
+          next = s + 1;
+        }
+      if (next != separator)
+        return;
+      double total = 0.;
+      for (const int s : subtrees)
+        total += subtree_entries[s];
+      std::vector<int> begins = {0};
+      double           done   = 0.;
+      for (std::size_t i = 0; i + 1 < subtrees.size(); ++i)
+        {
+          // A task ends after this subtree if that is nearer its share
+          // than ending after the next one.
+          done += subtree_entries[subtrees[i]];
+          const double target = total * begins.size() / n_groups;
+          if (begins.size() < n_groups &&
+              (done >= target ||
+               target - done <
+                 done + subtree_entries[subtrees[i + 1]] - target))
+            begins.push_back(subtrees[i] + 1);
+        }
+      if (begins.size() < 2)
+        return;
+      begins.push_back(separator);
+      task_begin       = begins;
+      separator_column = (separator < n_super) ? super[separator] : L->n;
     }
   };
 
@@ -59,7 +367,7 @@ namespace isoimpact
   {
     Timer timer;
     factors.clear();
-    const types::global_dof_index n = mass.m();
+    const Index n = mass.m();
     AssertThrow(dof_component.size() == n,
                 ExcDimensionMismatch(dof_component.size(), n));
     const unsigned int n_components =
@@ -68,155 +376,318 @@ namespace isoimpact
         1 + *std::max_element(dof_component.begin(), dof_component.end());
 
     // Local index of each unknown within its component.
-    std::vector<types::global_dof_index>              local(n);
-    std::vector<std::vector<types::global_dof_index>> component_dofs(
-      n_components);
-    for (types::global_dof_index i = 0; i < n; ++i)
+    std::vector<Index>              local(n);
+    std::vector<std::vector<Index>> component_dofs(n_components);
+    for (Index i = 0; i < n; ++i)
       {
         local[i] = component_dofs[dof_component[i]].size();
         component_dofs[dof_component[i]].push_back(i);
       }
 
-    // The lower triangle of each component's block, row by row.
-    using Entry =
-      std::tuple<types::global_dof_index, types::global_dof_index, double>;
-    std::vector<std::vector<Entry>> blocks(n_components);
-    for (types::global_dof_index i = 0; i < n; ++i)
-      for (auto it = mass.begin(i); it != mass.end(i); ++it)
-        {
-          const types::global_dof_index j = it->column();
-          if (it->value() == 0.)
-            continue;
-          AssertThrow(dof_component[i] == dof_component[j],
-                      ExcMessage("the consistent mass matrix couples "
-                                 "unknowns " +
-                                 std::to_string(i) + " and " +
-                                 std::to_string(j) +
-                                 " of different components: it cannot be "
-                                 "factorised per component"));
-          if (local[j] <= local[i])
-            blocks[dof_component[i]].emplace_back(local[i],
-                                                  local[j],
-                                                  it->value());
-        }
-
-    // Components with equal blocks share a factor.
-    std::vector<int> owner(n_components, -1);
+    // Each component's block.
+    std::vector<Block> blocks(n_components);
     for (unsigned int c = 0; c < n_components; ++c)
       {
-        for (unsigned int d = 0; d < c && owner[c] < 0; ++d)
-          if (owner[d] == int(d) &&
-              component_dofs[d].size() == component_dofs[c].size() &&
-              blocks[d] == blocks[c])
-            owner[c] = d;
-        if (owner[c] >= 0)
-          continue;
-        owner[c] = c;
-
-        auto                          factor  = std::make_unique<Factor>();
-        cholmod_common               *cm      = &factor->common;
-        const types::global_dof_index m       = component_dofs[c].size();
-        cholmod_triplet              *triplet = cholmod_allocate_triplet(m,
-                                                            m,
-                                                            blocks[c].size(),
-                                                            -1,
-                                                            CHOLMOD_REAL,
-                                                            cm);
-        AssertThrow(triplet != nullptr,
-                    ExcMessage("CHOLMOD could not allocate the mass block"));
-        auto *rows   = static_cast<int *>(triplet->i);
-        auto *cols   = static_cast<int *>(triplet->j);
-        auto *values = static_cast<double *>(triplet->x);
-        for (std::size_t k = 0; k < blocks[c].size(); ++k)
+        blocks[c].diagonal_only.assign(component_dofs[c].size(), true);
+        blocks[c].diagonal.assign(component_dofs[c].size(), 0.);
+      }
+    for (Index i = 0; i < n; ++i)
+      {
+        Block &block = blocks[dof_component[i]];
+        for (auto it = mass.begin(i); it != mass.end(i); ++it)
           {
-            rows[k]   = std::get<0>(blocks[c][k]);
-            cols[k]   = std::get<1>(blocks[c][k]);
-            values[k] = std::get<2>(blocks[c][k]);
+            const Index j = it->column();
+            if (it->value() == 0.)
+              continue;
+            AssertThrow(dof_component[i] == dof_component[j],
+                        ExcMessage("the consistent mass matrix couples "
+                                   "unknowns " +
+                                   std::to_string(i) + " and " +
+                                   std::to_string(j) +
+                                   " of different components: it cannot be "
+                                   "factorised per component"));
+            if (j == i)
+              block.diagonal[local[i]] = it->value();
+            else
+              block.diagonal_only[local[i]] = false;
+            if (local[j] <= local[i])
+              block.lower.emplace_back(local[i], local[j], it->value());
           }
-        triplet->nnz      = blocks[c].size();
-        cholmod_sparse *A = cholmod_triplet_to_sparse(triplet, 0, cm);
-        cholmod_free_triplet(&triplet, cm);
-        factor->L = cholmod_analyze(A, cm);
+      }
+    for (auto &block : blocks)
+      block.n_diagonal_only = std::count(block.diagonal_only.begin(),
+                                         block.diagonal_only.end(),
+                                         true);
+
+    // Components share a factor if their blocks are equal but for rows
+    // that are diagonal-only in one of them, and these row sets are nested
+    // (then each is a trailing set of one ordering). The reference of a
+    // group is its member with the fewest diagonal-only rows.
+    const auto reference_of = [&blocks](const std::vector<unsigned int> &g) {
+      return *std::min_element(g.begin(),
+                               g.end(),
+                               [&blocks](const unsigned a, const unsigned b) {
+                                 return blocks[a].n_diagonal_only <
+                                        blocks[b].n_diagonal_only;
+                               });
+    };
+    const auto compatible = [&](const std::vector<unsigned int> &group) {
+      const unsigned int             ref = reference_of(group);
+      std::vector<std::vector<bool>> extra;
+      for (const unsigned int c : group)
+        {
+          if (component_dofs[c].size() != component_dofs[ref].size())
+            return false;
+          extra.push_back(extra_diagonal_rows(blocks[c], blocks[ref]));
+          if (!equal_outside(blocks[c], blocks[ref], extra.back()))
+            return false;
+        }
+      for (const auto &a : extra)
+        for (const auto &b : extra)
+          {
+            bool a_in_b = true, b_in_a = true;
+            for (std::size_t r = 0; r < a.size(); ++r)
+              {
+                a_in_b = a_in_b && (!a[r] || b[r]);
+                b_in_a = b_in_a && (!b[r] || a[r]);
+              }
+            if (!a_in_b && !b_in_a)
+              return false;
+          }
+      return true;
+    };
+    std::vector<std::vector<unsigned int>> groups;
+    for (unsigned int c = 0; c < n_components; ++c)
+      {
+        bool placed = false;
+        for (auto &group : groups)
+          {
+            auto candidate = group;
+            candidate.push_back(c);
+            if (compatible(candidate))
+              {
+                group  = candidate;
+                placed = true;
+                break;
+              }
+          }
+        if (!placed)
+          groups.push_back({c});
+      }
+
+    for (const auto &group : groups)
+      {
+        const unsigned int ref = reference_of(group);
+        const int          m   = component_dofs[ref].size();
+        // The members' extra diagonal-only rows, largest set first.
+        std::vector<std::pair<unsigned int, std::vector<bool>>> members;
+        for (const unsigned int c : group)
+          members.emplace_back(c, extra_diagonal_rows(blocks[c], blocks[ref]));
+        const auto count = [](const std::vector<bool> &rows) {
+          return std::count(rows.begin(), rows.end(), true);
+        };
+        std::stable_sort(members.begin(),
+                         members.end(),
+                         [&count](const auto &a, const auto &b) {
+                           return count(a.second) > count(b.second);
+                         });
+
+        auto            factor = std::make_unique<Factor>();
+        cholmod_common *cm     = &factor->common;
+        cm->nmethods           = 1;
+
+        // The ordering: METIS nested dissection (postordered) of the rows
+        // that every member has, then the layers of the members' extra
+        // diagonal-only rows, the largest set's own rows first.
+        std::vector<int> perm;
+        {
+          const std::vector<bool> &largest = members.front().second;
+          std::vector<int>         position(m, -1);
+          int                      size = 0;
+          for (int r = 0; r < m; ++r)
+            if (!largest[r])
+              position[r] = size++;
+          cm->method[0].ordering = CHOLMOD_METIS;
+          cm->postorder          = 1;
+          cholmod_sparse *A      = to_cholmod(blocks[ref], position, size, cm);
+          cholmod_factor *Lp     = cholmod_analyze(A, cm);
+          cholmod_free_sparse(&A, cm);
+          AssertThrow(Lp != nullptr,
+                      ExcMessage("CHOLMOD could not order the mass block"));
+          std::vector<int> row_of(size);
+          for (int r = 0; r < m; ++r)
+            if (position[r] >= 0)
+              row_of[position[r]] = r;
+          const auto *ordering = static_cast<const int *>(Lp->Perm);
+          for (int k = 0; k < size; ++k)
+            perm.push_back(row_of[ordering[k]]);
+          cholmod_free_factor(&Lp, cm);
+          for (std::size_t i = 0; i < members.size(); ++i)
+            for (int r = 0; r < m; ++r)
+              if (members[i].second[r] &&
+                  (i + 1 == members.size() || !members[i + 1].second[r]))
+                perm.push_back(r);
+          AssertThrow(int(perm.size()) == m, ExcInternalError());
+        }
+
+        std::vector<int> identity(m);
+        std::iota(identity.begin(), identity.end(), 0);
+        cholmod_sparse *A = to_cholmod(blocks[ref], identity, m, cm);
+        if (count(members.front().second) == 0)
+          factor->L = cholmod_analyze(A, cm); // the METIS order as it is
+        else
+          {
+            // The given order, not postordered: that would move the
+            // trailing rows.
+            cm->method[0].ordering = CHOLMOD_GIVEN;
+            cm->postorder          = 0;
+            factor->L = cholmod_analyze_p(A, perm.data(), nullptr, 0, cm);
+          }
         if (factor->L != nullptr)
           cholmod_factorize(A, factor->L, cm);
         cholmod_free_sparse(&A, cm);
         AssertThrow(factor->L != nullptr && cm->status == CHOLMOD_OK &&
-                      factor->L->minor == m,
+                      int(factor->L->minor) == m,
                     ExcMessage("the consistent mass block of component " +
-                               std::to_string(c) +
+                               std::to_string(ref) +
                                " is not positive definite (CHOLMOD status " +
                                std::to_string(cm->status) + ")"));
-        // A packed simplicial L L^T (column-wise, diagonal first): the
-        // solve below runs over it once forwards and once backwards, for
-        // all the components that share it.
-        cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, factor->L, cm);
-        AssertThrow(cm->status == CHOLMOD_OK && !factor->L->is_super &&
-                      factor->L->is_ll,
-                    ExcMessage("CHOLMOD could not convert the mass factor"));
-        const int *permutation = static_cast<const int *>(factor->L->Perm);
-        factor->perm.assign(permutation, permutation + m);
+        AssertThrow(factor->L->is_super && factor->L->is_ll,
+                    ExcMessage("CHOLMOD returned no supernodal mass factor"));
+
+        // Components, in the order of the group.
+        const auto *ordering = static_cast<const int *>(factor->L->Perm);
+        const int   nc       = members.size();
+        factor->n_components = nc;
+        factor->gather.assign(std::size_t(m) * nc, numbers::invalid_dof_index);
+        factor->leading.resize(nc);
+        for (int i = 0; i < nc; ++i)
+          {
+            const unsigned int       c     = members[i].first;
+            const std::vector<bool> &extra = members[i].second;
+            factor->leading[i]             = m - count(extra);
+            for (int k = 0; k < factor->leading[i]; ++k)
+              {
+                AssertThrow(!extra[ordering[k]], ExcInternalError());
+                factor->gather[std::size_t(k) * nc + i] =
+                  component_dofs[c][ordering[k]];
+              }
+            for (int r = 0; r < m; ++r)
+              if (extra[r])
+                factor->diagonal_rows.emplace_back(component_dofs[c][r],
+                                                   blocks[c].diagonal[r]);
+          }
+        factor->split_tree(MultithreadInfo::n_threads());
+        factor->y.resize(std::size_t(m) * nc);
+        factor->below.assign(factor->n_tasks() + 1,
+                             std::vector<double>(factor->L->maxesize * nc));
+        if (factor->n_tasks() > 1)
+          factor->separator_updates.assign(
+            factor->n_tasks(),
+            std::vector<double>(std::size_t(m - factor->separator_column) *
+                                nc));
         factors.push_back(std::move(factor));
       }
-    // Attach each component to its factor, in the order of the components.
-    for (unsigned int c = 0; c < n_components; ++c)
-      {
-        unsigned int f = 0;
-        for (int d = 0; d < owner[c]; ++d)
-          f += (owner[d] == int(d));
-        factors[f]->dofs.push_back(component_dofs[c]);
-      }
-    for (auto &factor : factors)
-      factor->y.resize(factor->dofs[0].size() * factor->dofs.size());
     setup_seconds = timer.wall_time();
   }
 
+  template <int nc>
   void
-  ComponentMassSolver::solve_with_factor(const Factor         &factor_ref,
+  ComponentMassSolver::substitute(const Factor &factor, double *y)
+  {
+    const cholmod_factor &L       = *factor.L;
+    const int             n_super = L.nsuper;
+    const unsigned int    n_tasks = factor.n_tasks();
+    const int             split   = factor.task_begin[n_tasks];
+    if (n_tasks > 1)
+      {
+        Threads::TaskGroup<void> tasks;
+        for (unsigned int t = 0; t < n_tasks; ++t)
+          tasks += Threads::new_task([&factor, &L, y, t]() {
+            std::vector<double> &updates = factor.separator_updates[t];
+            std::fill(updates.begin(), updates.end(), 0.);
+            forward<nc>(L,
+                        factor.task_begin[t],
+                        factor.task_begin[t + 1],
+                        y,
+                        factor.below[t].data(),
+                        factor.separator_column,
+                        updates.data());
+          });
+        tasks.join_all();
+        double *separator = y + std::size_t(factor.separator_column) * nc;
+        for (const auto &updates : factor.separator_updates)
+          for (std::size_t i = 0; i < updates.size(); ++i)
+            separator[i] += updates[i];
+      }
+    forward<nc>(L,
+                n_tasks > 1 ? split : 0,
+                n_super,
+                y,
+                factor.below[n_tasks].data(),
+                INT_MAX,
+                nullptr);
+    // A component's rows outside its leading block take no part in its
+    // backward substitution.
+    for (int c = 0; c < nc; ++c)
+      for (std::size_t k = factor.leading[c]; k < L.n; ++k)
+        y[k * nc + c] = 0.;
+    backward<nc>(L,
+                 n_tasks > 1 ? split : 0,
+                 n_super,
+                 y,
+                 factor.below[n_tasks].data());
+    if (n_tasks > 1)
+      {
+        Threads::TaskGroup<void> tasks;
+        for (unsigned int t = 0; t < n_tasks; ++t)
+          tasks += Threads::new_task([&factor, &L, y, t]() {
+            backward<nc>(L,
+                         factor.task_begin[t],
+                         factor.task_begin[t + 1],
+                         y,
+                         factor.below[t].data());
+          });
+        tasks.join_all();
+      }
+  }
+
+  void
+  ComponentMassSolver::solve_with_factor(const Factor         &factor,
                                          Vector<double>       &a,
                                          const Vector<double> &f)
   {
-    const Factor *factor = &factor_ref;
-
-    {
-      const int     m  = factor->perm.size();
-      const int     nc = factor->dofs.size();
-      const auto   *Lp = static_cast<const int *>(factor->L->p);
-      const auto   *Li = static_cast<const int *>(factor->L->i);
-      const auto   *Lx = static_cast<const double *>(factor->L->x);
-      double *const y  = factor->y.data();
-      for (int k = 0; k < m; ++k)
-        for (int c = 0; c < nc; ++c)
-          y[k * nc + c] = f(factor->dofs[c][factor->perm[k]]);
-      // L z = y, column by column.
-      for (int j = 0; j < m; ++j)
-        for (int c = 0; c < nc; ++c)
-          {
-            const double zj = y[j * nc + c] / Lx[Lp[j]];
-            y[j * nc + c]   = zj;
-            for (int q = Lp[j] + 1; q < Lp[j + 1]; ++q)
-              y[Li[q] * nc + c] -= Lx[q] * zj;
-          }
-      // L^T x = z, backwards.
-      for (int j = m - 1; j >= 0; --j)
-        for (int c = 0; c < nc; ++c)
-          {
-            double sum = y[j * nc + c];
-            for (int q = Lp[j] + 1; q < Lp[j + 1]; ++q)
-              sum -= Lx[q] * y[Li[q] * nc + c];
-            y[j * nc + c] = sum / Lx[Lp[j]];
-          }
-      for (int k = 0; k < m; ++k)
-        for (int c = 0; c < nc; ++c)
-          a(factor->dofs[c][factor->perm[k]]) = y[k * nc + c];
-    }
+    const std::size_t n_values = factor.gather.size();
+    double *const     y        = factor.y.data();
+    for (std::size_t k = 0; k < n_values; ++k)
+      y[k] = factor.gather[k] == numbers::invalid_dof_index ?
+               0. :
+               f(factor.gather[k]);
+    switch (factor.n_components)
+      {
+        case 1:
+          substitute<1>(factor, y);
+          break;
+        case 2:
+          substitute<2>(factor, y);
+          break;
+        case 3:
+          substitute<3>(factor, y);
+          break;
+        default:
+          AssertThrow(false, ExcNotImplemented());
+      }
+    for (std::size_t k = 0; k < n_values; ++k)
+      if (factor.gather[k] != numbers::invalid_dof_index)
+        a(factor.gather[k]) = y[k];
+    for (const auto &[dof, diagonal] : factor.diagonal_rows)
+      a(dof) = f(dof) / diagonal;
   }
 
   void
   ComponentMassSolver::solve(Vector<double> &a, const Vector<double> &f) const
   {
-    // The factors write disjoint entries of a: one task each. A triangular
-    // solve is bound by the latency of its indirect accesses rather than by
-    // the memory bandwidth, so two of them run side by side.
+    // The factors write disjoint entries of a: one task each.
     if (factors.size() == 1)
       {
         solve_with_factor(*factors[0], a, f);
@@ -239,6 +710,15 @@ namespace isoimpact
     return factors.size();
   }
 
+  unsigned int
+  ComponentMassSolver::n_parallel_subtrees() const
+  {
+    unsigned int n = 0;
+    for (const auto &factor : factors)
+      n += factor->n_tasks();
+    return n;
+  }
+
   std::size_t
   ComponentMassSolver::factor_nonzeros() const
   {
@@ -249,17 +729,31 @@ namespace isoimpact
   }
 
   std::size_t
+  ComponentMassSolver::factor_stored_entries() const
+  {
+    std::size_t entries = 0;
+    for (const auto &factor : factors)
+      entries += factor->L->xsize;
+    return entries;
+  }
+
+  std::size_t
   ComponentMassSolver::memory_consumption() const
   {
     std::size_t bytes = 0;
     for (const auto &factor : factors)
       {
         const cholmod_factor *L = factor->L;
-        // Values, row indices; column pointers, counts, permutation.
-        bytes += L->nzmax * (sizeof(double) + sizeof(int)) +
-                 L->n * 6 * sizeof(int) + factor->y.size() * sizeof(double);
-        for (const auto &dofs : factor->dofs)
-          bytes += dofs.size() * sizeof(types::global_dof_index);
+        // Values, supernode patterns and pointers, permutation; gather
+        // indices and the work arrays of the solve.
+        bytes += L->xsize * sizeof(double) + L->ssize * sizeof(int) +
+                 (3 * L->nsuper + 3 + L->n) * sizeof(int) +
+                 factor->gather.size() * sizeof(Index) +
+                 factor->y.size() * sizeof(double);
+        for (const auto &work : factor->below)
+          bytes += work.size() * sizeof(double);
+        for (const auto &work : factor->separator_updates)
+          bytes += work.size() * sizeof(double);
       }
     return bytes;
   }

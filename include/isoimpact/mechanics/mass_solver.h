@@ -1,9 +1,13 @@
 // Layer 4: solves M a = f for a consistent mass matrix with a sparse
-// Cholesky factorisation computed once (CHOLMOD, METIS ordering). The mass
-// rho N_A N_B couples no two displacement components, so it is factorised
-// per component: a factor of n / dim rows per component, one factor shared
-// by the components whose matrices are equal (the same constraints), solved
-// for them together (one pass over the factor for all its components).
+// Cholesky factorisation computed once (CHOLMOD, METIS ordering,
+// supernodal). The mass rho N_A N_B couples no two displacement components,
+// so it is factorised per component: a factor of n / dim rows, shared by the
+// components whose blocks are equal up to rows that carry a diagonal entry
+// only (a roller's constrained unknowns). Such rows are ordered last, so
+// that the factor of the smaller block is the leading block of the shared
+// factor; the components of a factor are solved together (one pass over the
+// factor for all of them), and the independent subtrees of its elimination
+// tree in parallel.
 #ifndef isoimpact_mass_solver_h
 #define isoimpact_mass_solver_h
 
@@ -42,9 +46,17 @@ namespace isoimpact
     // Number of distinct factors (1 if all components share one).
     unsigned int
     n_factors() const;
+    // Number of subtrees of the elimination trees solved side by side (the
+    // sum over the factors; 1 per factor if it is not split).
+    unsigned int
+    n_parallel_subtrees() const;
     // Nonzeros of the factors L (all factors).
     std::size_t
     factor_nonzeros() const;
+    // Entries stored in the supernodes (nonzeros and the zeros of relaxed
+    // amalgamation).
+    std::size_t
+    factor_stored_entries() const;
     // Bytes held by the factors and the work arrays of the solve.
     std::size_t
     memory_consumption() const;
@@ -57,9 +69,13 @@ namespace isoimpact
     // Forward and backward substitution with one factor, for the
     // components that share it.
     static void
-                                         solve_with_factor(const Factor                 &factor,
-                                                           dealii::Vector<double>       &a,
-                                                           const dealii::Vector<double> &f);
+    solve_with_factor(const Factor                 &factor,
+                      dealii::Vector<double>       &a,
+                      const dealii::Vector<double> &f);
+    template <int n_components>
+    static void
+    substitute(const Factor &factor, double *y);
+
     std::vector<std::unique_ptr<Factor>> factors;
     double                               setup_seconds = 0.;
   };
