@@ -46,8 +46,8 @@ namespace isoimpact
                                         material.density,
                                         body_constraints,
                                         consistent_mass);
-        // Each step solves M a = f with a Cholesky factor per component,
-        // computed here once; see solve_mass().
+        // Each step solves M a = f with a Cholesky factor shared by the
+        // components, computed here once; see solve_mass().
         std::vector<unsigned char> components(disc.n_dofs());
         for (types::global_dof_index i = 0; i < components.size(); ++i)
           components[i] = disc.dof_component(i);
