@@ -194,6 +194,7 @@ namespace isoimpact
                                          Vector<double>       &f,
                                          Vector<double>       &a) const
   {
+    step_energies.reset();
     if (fused_lumped_step)
       {
         stiffness_times_u.reinit(u.size(), true);
@@ -219,6 +220,7 @@ namespace isoimpact
   {
     if (!fused_lumped_step)
       {
+        // Resets step_energies: the separate functions compute them.
         compute_acceleration(displacement, f, acceleration);
         velocity = half_step_velocity;
         velocity.add(0.5 * dt, acceleration);
@@ -240,27 +242,75 @@ namespace isoimpact
   {
     // The same operations per entry as the separate passes (condense,
     // subtract, scale, distribute, two vector updates): the same bits.
+    // With the velocities, the pass also sums the energies of the step
+    // (energies_of_last_step()): u . K u and v^{n-1/2} . M v^{n+1/2}, the
+    // old half-step velocity read before it is overwritten. Blocks of a
+    // fixed size keep the order of the sums independent of the threads.
+    constexpr types::global_dof_index block_size = 4096;
+    const types::global_dof_index     n_blocks =
+      (a.size() + block_size - 1) / block_size;
+    if (half_step_velocity != nullptr)
+      block_energies.resize(n_blocks);
     parallel::apply_to_subranges(
       types::global_dof_index(0),
-      a.size(),
-      [&](const types::global_dof_index begin,
-          const types::global_dof_index end) {
-        for (types::global_dof_index i = begin; i < end; ++i)
+      n_blocks,
+      [&](const types::global_dof_index first_block,
+          const types::global_dof_index end_block) {
+        for (types::global_dof_index block = first_block; block < end_block;
+             ++block)
           {
-            const double w = step_inverse_mass(i);
-            a(i)           = (w == 0.) ? 0. : (f(i) - stiffness_times_u(i)) * w;
-          }
-        if (half_step_velocity == nullptr)
-          return;
-        Vector<double> &v  = *velocity_out;
-        Vector<double> &vh = *half_step_velocity;
-        for (types::global_dof_index i = begin; i < end; ++i)
-          {
-            v(i) = vh(i) + 0.5 * dt * a(i);
-            vh(i) += dt * a(i);
+            const types::global_dof_index begin = block * block_size;
+            const types::global_dof_index end =
+              std::min<types::global_dof_index>(begin + block_size, a.size());
+            for (types::global_dof_index i = begin; i < end; ++i)
+              {
+                const double w = step_inverse_mass(i);
+                a(i) = (w == 0.) ? 0. : (f(i) - stiffness_times_u(i)) * w;
+              }
+            if (half_step_velocity == nullptr)
+              continue;
+            Vector<double> &v       = *velocity_out;
+            Vector<double> &vh      = *half_step_velocity;
+            double          kinetic = 0., strain = 0.;
+            for (types::global_dof_index i = begin; i < end; ++i)
+              {
+                const double previous = vh(i);
+                v(i)                  = previous + 0.5 * dt * a(i);
+                vh(i)                 = previous + dt * a(i);
+                kinetic += previous * lumped_mass(i) * vh(i);
+                strain += displacement(i) * stiffness_times_u(i);
+              }
+            block_energies[block] = {kinetic, strain};
           }
       },
-      4096);
+      1);
+    if (half_step_velocity == nullptr)
+      return;
+    // Constrained unknowns do not count (as in the separate functions);
+    // their acceleration is zero, so their velocity did not change.
+    StepEnergies energies;
+    for (const auto &block : block_energies)
+      {
+        energies.kinetic += block.kinetic;
+        energies.strain += block.strain;
+      }
+    const Vector<double> &vh = *half_step_velocity;
+    for (const auto &line : body_constraints.get_lines())
+      {
+        const unsigned int i = line.index;
+        energies.kinetic -= vh(i) * lumped_mass(i) * vh(i);
+        energies.strain -= displacement(i) * stiffness_times_u(i);
+      }
+    energies.kinetic *= 0.5;
+    energies.strain *= 0.5;
+    step_energies = energies;
+  }
+
+  template <int dim>
+  const std::optional<typename ElasticBody<dim>::StepEnergies> &
+  ElasticBody<dim>::energies_of_last_step() const
+  {
+    return step_energies;
   }
 
   template <int dim>

@@ -193,9 +193,13 @@ namespace isoimpact
       return kinetic_energy_of_step;
     double energy = 0.;
     // 1/2 v^{n-1/2} . M v^{n+1/2}, v^{n-1/2} = v^{n+1/2} - dt a^n.
+    // A lumped body summed it in its step already.
     for (unsigned int b = 0; b < bodies.size(); ++b)
-      energy +=
-        bodies[b]->kinetic_energy_at_full_step(half_step_velocity[b], dt);
+      if (const auto &summed = bodies[b]->energies_of_last_step())
+        energy += summed->kinetic;
+      else
+        energy +=
+          bodies[b]->kinetic_energy_at_full_step(half_step_velocity[b], dt);
     kinetic_energy_of_step = energy;
     return energy;
   }
@@ -207,9 +211,12 @@ namespace isoimpact
     EnergyBalance energy;
     energy.kinetic = kinetic_energy();
     for (const auto *body : bodies)
-      // K u of this step's acceleration: no further product.
-      energy.strain +=
-        body->strain_energy_of_last_acceleration(body->displacement);
+      if (const auto &summed = body->energies_of_last_step())
+        energy.strain += summed->strain;
+      else
+        // K u of this step's acceleration: no further product.
+        energy.strain +=
+          body->strain_energy_of_last_acceleration(body->displacement);
     for (const auto &result : results)
       energy.contact += result.energy;
     energy.contact_damping = contact_damping_work;

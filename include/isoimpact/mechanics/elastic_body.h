@@ -10,6 +10,7 @@
 #include <isoimpact/mechanics/mass_solver.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -91,6 +92,18 @@ namespace isoimpact
     // displacement of that call, unchanged since.
     double
     strain_energy_of_last_acceleration(const dealii::Vector<double> &u) const;
+    // With lumped mass, compute_acceleration_and_velocities() sums both
+    // energies in its pass: kinetic_energy_at_full_step(v^{n+1/2}, dt) and
+    // strain_energy_of_last_acceleration(u) of that step, exact in the
+    // same operations but in another order. Empty for consistent mass and
+    // once compute_acceleration() has been called since.
+    struct StepEnergies
+    {
+      double kinetic = 0.;
+      double strain  = 0.;
+    };
+    const std::optional<StepEnergies> &
+    energies_of_last_step() const;
     dealii::Tensor<1, dim>
     momentum(const dealii::Vector<double> &v) const;
     // Mass of the body as the mass matrix sees it (kg/m).
@@ -213,6 +226,11 @@ namespace isoimpact
       scratch_previous_velocity;
     // K u of the last compute_acceleration().
     mutable dealii::Vector<double> stiffness_times_u;
+    // The energies the fused pass summed (energies_of_last_step()), and its
+    // partial sums per block of unknowns (a fixed order: the same bits
+    // whatever the threads).
+    mutable std::optional<StepEnergies> step_energies;
+    mutable std::vector<StepEnergies>   block_energies;
     // Bipenalty: the condensed penalty masses in use and a dense scratch.
     std::vector<std::pair<dealii::types::global_dof_index, double>>
                            penalty_masses;
