@@ -277,41 +277,126 @@ namespace isoimpact
       std::vector<std::vector<double>> point_data;
     };
 
+    // The shape functions of one cell at its VTK node points: the value
+    // and gradient of each function's own component (the element is
+    // primitive), and the node coefficients of the position.
+    struct CellShapes
+    {
+      HigherOrderCell     vtk_cell;
+      std::vector<double> position_coefficients; // n x 2
+      std::vector<double> values;                // n x dofs per cell
+      std::vector<double> gradients;             // n x dofs per cell x 2
+    };
+
+    CellShapes
+    cell_shapes(FEValues<2>                               &fe_values,
+                const Discretization<2>                   &disc,
+                const DoFHandler<2>::active_cell_iterator &cell)
+    {
+      CellShapes shapes;
+      shapes.vtk_cell = disc.higher_order_cell(cell);
+      fe_values.reinit(cell);
+      const auto        &fe = fe_values.get_fe();
+      const unsigned int n  = fe_values.n_quadrature_points;
+      const unsigned int m  = fe.n_dofs_per_cell();
+      FullMatrix<double> positions(n, 2), coefficients(n, 2);
+      for (unsigned int k = 0; k < n; ++k)
+        for (unsigned int d = 0; d < 2; ++d)
+          positions(k, d) = fe_values.quadrature_point(k)[d];
+      if (shapes.vtk_cell.values_to_nodes.m() > 0)
+        shapes.vtk_cell.values_to_nodes.mmult(coefficients, positions);
+      else
+        coefficients = positions;
+      shapes.position_coefficients.assign(&coefficients(0, 0),
+                                          &coefficients(0, 0) + 2 * n);
+      shapes.values.resize(n * m);
+      shapes.gradients.resize(2 * n * m);
+      for (unsigned int k = 0; k < n; ++k)
+        for (unsigned int i = 0; i < m; ++i)
+          {
+            const unsigned int c     = fe.system_to_component_index(i).first;
+            shapes.values[k * m + i] = fe_values.shape_value_component(i, k, c);
+            const auto gradient      = fe_values.shape_grad_component(i, k, c);
+            shapes.gradients[2 * (k * m + i)]     = gradient[0];
+            shapes.gradients[2 * (k * m + i) + 1] = gradient[1];
+          }
+      return shapes;
+    }
+
+    std::unique_ptr<FEValues<2>>
+    node_fe_values(const Discretization<2> &disc, const unsigned int degree)
+    {
+      const auto nodes = vtk_node_points(degree);
+      return std::make_unique<FEValues<2>>(
+        disc.mapping(),
+        disc.fe(),
+        Quadrature<2>(nodes, std::vector<double>(nodes.size(), 1.)),
+        update_values | update_gradients | update_quadrature_points);
+    }
+  } // namespace
+
+  // Kept from one write to the next, the shape data make a write cost a
+  // few products per node instead of a mapping per cell; bodies whose
+  // data would exceed max_cached_bytes are sampled through FEValues at
+  // every write instead.
+  struct SolutionWriter::BodySampling
+  {
+    static constexpr std::size_t max_cached_bytes = std::size_t(64) << 20;
+
+    explicit BodySampling(const Discretization<2> &disc)
+    {
+      const auto first          = disc.dof_handler().begin_active();
+      degree                    = disc.higher_order_cell(first).degree;
+      const std::size_t n_nodes = (degree + 1) * (degree + 1);
+      const std::size_t bytes_per_cell =
+        sizeof(double) * n_nodes *
+        (3 * disc.fe().n_dofs_per_cell() + 3 + n_nodes);
+      if (bytes_per_cell * disc.triangulation().n_active_cells() >
+          max_cached_bytes)
+        return;
+      const auto fe_values = node_fe_values(disc, degree);
+      cells.reserve(disc.triangulation().n_active_cells());
+      for (const auto &cell : disc.dof_handler().active_cell_iterators())
+        cells.push_back(cell_shapes(*fe_values, disc, cell));
+    }
+
+    unsigned int degree = 0;
+    std::vector<CellShapes>
+      cells; // in the order of the active cells; empty: not cached
+  };
+
+  namespace
+  {
     /**
      * One body as higher-order VTK cells (Discretization::
      * higher_order_cell()): every cell has its own nodes (the stresses are
-     * discontinuous); fields are sampled with FEValues at the node points
-     * and turned into node coefficients, so displacement, velocity and the
-     * geometry are exact; the stresses interpolate the element's stresses
-     * at the node points.
+     * discontinuous); fields are sampled at the node points and turned into
+     * node coefficients, so displacement, velocity and the geometry are
+     * exact; the stresses interpolate the element's stresses at the node
+     * points.
      */
     HigherOrderPiece
     sample_higher_order_cells(const ElasticBody<2> &body,
                               const Vector<double> &contact_pressure,
-                              const double          time)
+                              const double          time,
+                              const SolutionWriter::BodySampling &sampling)
     {
       const auto     &disc = body.discretization();
       const DoFFields fields(body, contact_pressure);
       const auto &[displacement, velocity, pressure] = fields.vectors;
 
       HigherOrderPiece piece;
-      piece.time = time;
-      const HigherOrderCell first =
-        disc.higher_order_cell(disc.dof_handler().begin_active());
-      piece.degree                           = first.degree;
-      piece.vtk_type                         = first.vtk_type;
-      const auto                       nodes = vtk_node_points(piece.degree);
-      const unsigned int               n     = nodes.size();
-      FEValues<2>                      fe_values(disc.mapping(),
-                            disc.fe(),
-                            Quadrature<2>(nodes, std::vector<double>(n, 1.)),
-                            update_values | update_gradients |
-                              update_quadrature_points);
-      const FEValuesExtractors::Vector displacements(0);
-      const FEValuesExtractors::Scalar first_component(0);
-      std::vector<Tensor<1, 2>>        u(n), v(n);
-      std::vector<double>              p(n);
-      std::vector<Tensor<2, 2>>        grad_u(n);
+      piece.time            = time;
+      piece.degree          = sampling.degree;
+      const unsigned int n  = (piece.degree + 1) * (piece.degree + 1);
+      const auto        &fe = disc.fe();
+      const unsigned int m  = fe.n_dofs_per_cell();
+      // Not cached: the shapes of each cell through FEValues.
+      const auto fe_values =
+        sampling.cells.empty() ? node_fe_values(disc, piece.degree) : nullptr;
+      std::vector<unsigned int> component(m);
+      for (unsigned int i = 0; i < m; ++i)
+        component[i] = fe.system_to_component_index(i).first;
 
       piece.n_cells    = disc.triangulation().n_active_cells();
       auto &point_data = piece.point_data;
@@ -320,34 +405,60 @@ namespace isoimpact
       points.reserve(3 * n * piece.n_cells);
       for (auto &data : point_data)
         data.reserve(3 * n * piece.n_cells);
-      // Sampled values (n x components) of: position, u, v, stresses,
-      // contact pressure.
-      const unsigned int pressure_column = 6 + stress_names.size();
+      // Sampled values (n x components) of: u, v, stresses, contact
+      // pressure.
+      const unsigned int pressure_column = 4 + stress_names.size();
       FullMatrix<double> samples(n, pressure_column + 1);
       FullMatrix<double> coefficients(n, samples.n());
+      std::vector<types::global_dof_index> dof_indices(m);
+      std::vector<double>                  u_local(m), v_local(m), p_local(m);
+      CellShapes                           scratch;
+      unsigned int                         index = 0;
       for (const auto &cell : disc.dof_handler().active_cell_iterators())
         {
-          const HigherOrderCell vtk_cell = disc.higher_order_cell(cell);
+          if (fe_values)
+            scratch = cell_shapes(*fe_values, disc, cell);
+          const CellShapes &shapes =
+            fe_values ? scratch : sampling.cells[index];
+          ++index;
+          const HigherOrderCell &vtk_cell = shapes.vtk_cell;
           AssertThrow(vtk_cell.degree == piece.degree,
                       ExcMessage("cells of different degrees"));
-          fe_values.reinit(cell);
-          fe_values[displacements].get_function_values(displacement, u);
-          fe_values[displacements].get_function_values(velocity, v);
-          fe_values[displacements].get_function_gradients(displacement, grad_u);
-          fe_values[first_component].get_function_values(pressure, p);
+          if (piece.vtk_type == 0)
+            piece.vtk_type = vtk_cell.vtk_type;
+          cell->get_dof_indices(dof_indices);
+          for (unsigned int i = 0; i < m; ++i)
+            {
+              u_local[i] = displacement(dof_indices[i]);
+              v_local[i] = velocity(dof_indices[i]);
+              p_local[i] = (component[i] == 0) ? pressure(dof_indices[i]) : 0.;
+            }
           for (unsigned int k = 0; k < n; ++k)
             {
-              const auto x     = fe_values.quadrature_point(k);
-              const auto sigma = stresses(body.material(), grad_u[k]);
+              Tensor<1, 2> u, v;
+              Tensor<2, 2> grad_u;
+              double       p = 0.;
+              for (unsigned int i = 0; i < m; ++i)
+                {
+                  const unsigned int c     = component[i];
+                  const double       value = shapes.values[k * m + i];
+                  u[c] += value * u_local[i];
+                  v[c] += value * v_local[i];
+                  p += value * p_local[i];
+                  grad_u[c][0] +=
+                    shapes.gradients[2 * (k * m + i)] * u_local[i];
+                  grad_u[c][1] +=
+                    shapes.gradients[2 * (k * m + i) + 1] * u_local[i];
+                }
+              const auto sigma = stresses(body.material(), grad_u);
               for (unsigned int d = 0; d < 2; ++d)
                 {
-                  samples(k, d)     = x[d];
-                  samples(k, 2 + d) = u[k][d];
-                  samples(k, 4 + d) = v[k][d];
+                  samples(k, d)     = u[d];
+                  samples(k, 2 + d) = v[d];
                 }
               for (unsigned int s = 0; s < sigma.size(); ++s)
-                samples(k, 6 + s) = sigma[s];
-              samples(k, pressure_column) = p[k];
+                samples(k, 4 + s) = sigma[s];
+              samples(k, pressure_column) = p;
             }
           if (vtk_cell.values_to_nodes.m() > 0)
             vtk_cell.values_to_nodes.mmult(coefficients, samples);
@@ -356,15 +467,17 @@ namespace isoimpact
           for (unsigned int j = 0; j < n; ++j)
             {
               points.insert(points.end(),
-                            {coefficients(j, 0), coefficients(j, 1), 0.});
+                            {shapes.position_coefficients[2 * j],
+                             shapes.position_coefficients[2 * j + 1],
+                             0.});
               for (unsigned int a = 0; a < 2; ++a)
                 point_data[a].insert(point_data[a].end(),
-                                     {coefficients(j, 2 + 2 * a),
-                                      coefficients(j, 3 + 2 * a),
+                                     {coefficients(j, 2 * a),
+                                      coefficients(j, 1 + 2 * a),
                                       0.});
               // stresses and pressure, then the weights
               for (unsigned int s = 0; s <= stress_names.size(); ++s)
-                point_data[2 + s].push_back(coefficients(j, 6 + s));
+                point_data[2 + s].push_back(coefficients(j, 4 + s));
               point_data.back().push_back(vtk_cell.weights[j]);
             }
         }
@@ -584,15 +697,21 @@ namespace isoimpact
     // is in flight at a time: the previous one is finished first.
     // The bodies are sampled side by side (the time loop waits for them):
     // all but the last in tasks, the last here.
+    if (samplings.size() != bodies.size())
+      samplings.assign(bodies.size(), nullptr);
     std::vector<std::future<HigherOrderPiece>> sampling;
+    const auto sample = [&](const unsigned int b) {
+      if (!samplings[b])
+        samplings[b] =
+          std::make_shared<BodySampling>(bodies[b]->discretization());
+      return sample_higher_order_cells(*bodies[b],
+                                       contact_pressures[b],
+                                       time,
+                                       *samplings[b]);
+    };
     for (unsigned int b = 0; b + 1 < bodies.size(); ++b)
-      sampling.push_back(std::async(std::launch::async, [&, b]() {
-        return sample_higher_order_cells(*bodies[b],
-                                         contact_pressures[b],
-                                         time);
-      }));
-    HigherOrderPiece last =
-      sample_higher_order_cells(*bodies.back(), contact_pressures.back(), time);
+      sampling.push_back(std::async(std::launch::async, sample, b));
+    HigherOrderPiece              last = sample(bodies.size() - 1);
     std::vector<HigherOrderPiece> samples;
     for (auto &piece : sampling)
       samples.push_back(piece.get());

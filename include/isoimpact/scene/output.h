@@ -13,6 +13,7 @@
 #include <fstream>
 #include <functional>
 #include <future>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -67,14 +68,19 @@ namespace isoimpact
     // Waits for a write in flight (without reporting its error).
     ~SolutionWriter();
 
+    // Shape data of a body's cells at the VTK node points (output.cc).
+    struct BodySampling;
+
   private:
-    std::future<void>                           pending;
-    std::string                                 directory;
-    unsigned int                                n_subdivisions;
-    bool                                        higher_order;
-    bool                                        compress;
-    unsigned int                                counter = 0;
-    std::vector<std::pair<double, std::string>> times_and_names;
+    // Per body, made at its first higher-order write.
+    std::vector<std::shared_ptr<const BodySampling>> samplings;
+    std::future<void>                                pending;
+    std::string                                      directory;
+    unsigned int                                     n_subdivisions;
+    bool                                             higher_order;
+    bool                                             compress;
+    unsigned int                                     counter = 0;
+    std::vector<std::pair<double, std::string>>      times_and_names;
   };
 
   /**
