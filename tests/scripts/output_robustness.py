@@ -103,10 +103,10 @@ check_close("end time: the last row is at the end time [s]", float(rows[-1][0]),
 check_true("end time: the setup says the step was shortened",
            "the step 0.0005 s shortened so that the last step ends at the end time" in run.stdout)
 
-# 3. SIGTERM and SIGKILL during a run (about 4 s of steps, a progress line
+# 3. SIGTERM and SIGKILL during a run (tens of seconds of steps, a progress line
 # every 1 %).
 for name, sig in (("sigterm", signal.SIGTERM), ("sigkill", signal.SIGKILL)):
-    process = subprocess.Popen([program, prm(name, {"Time integration/End time": "5",
+    process = subprocess.Popen([program, prm(name, {"Time integration/End time": "50",
                                                    "Output/VTU interval": "400",
                                                    "Output/Progress interval": "1"})],
                                cwd=workdir, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
