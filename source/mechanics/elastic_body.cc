@@ -14,6 +14,26 @@ using namespace dealii;
 
 namespace isoimpact
 {
+  namespace
+  {
+    // The compressed rows of a SparsityPattern (deal.II 9.4 has no public
+    // accessor for them; SparseMatrix reads them as a friend): the row
+    // starts and column numbers that SparseMatrix::vmult loops over.
+    struct CompressedRows : SparsityPatternBase
+    {
+      static const std::size_t *
+      row_starts(const SparsityPatternBase &pattern)
+      {
+        return (pattern.*(&CompressedRows::rowstart)).get();
+      }
+      static const SparsityPatternBase::size_type *
+      column_numbers(const SparsityPatternBase &pattern)
+      {
+        return (pattern.*(&CompressedRows::colnums)).get();
+      }
+    };
+  } // namespace
+
   template <int dim>
   ElasticBody<dim>::ElasticBody(
     const std::string                   &name,
@@ -227,9 +247,85 @@ namespace isoimpact
         half_step_velocity.add(dt, acceleration);
         return;
       }
-    stiffness_times_u.reinit(displacement.size(), true);
-    stiffness.vmult(stiffness_times_u, displacement);
-    lumped_step_pass(f, acceleration, &half_step_velocity, &velocity, dt);
+    fused_step(f, half_step_velocity, dt);
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::fused_step(const Vector<double> &f,
+                               Vector<double>       &half_step_velocity,
+                               const double          dt)
+  {
+    // Row by row: (K u)_i as deal.II's vmult sums it (the same bits), then
+    // a_i, v_i, v^{n+1/2}_i and the energies' terms while the row is at
+    // hand. K u is not stored (strain_energy_of_last_acceleration() is then
+    // not available: energies_of_last_step() replaces it). Blocks of a
+    // fixed size keep the order of the energy sums independent of the
+    // threads.
+    const SparsityPattern &pattern  = stiffness.get_sparsity_pattern();
+    const std::size_t     *rowstart = CompressedRows::row_starts(pattern);
+    const auto            *columns  = CompressedRows::column_numbers(pattern);
+    // The entries in the pattern's order: the diagonal of row 0 is the
+    // first (square matrix, rowstart[0] = 0).
+    const double     *values = &stiffness.diag_element(0);
+    const double     *u      = displacement.data();
+    const double     *force  = f.data();
+    const double     *w      = step_inverse_mass.data();
+    const double     *mass   = lumped_mass.data();
+    double           *a      = acceleration.data();
+    double           *v      = velocity.data();
+    double           *vh     = half_step_velocity.data();
+    const std::size_t n      = displacement.size();
+    stiffness_times_u.reinit(0); // not computed: see above
+
+    constexpr std::size_t block_size = 4096;
+    const std::size_t     n_blocks   = (n + block_size - 1) / block_size;
+    block_energies.resize(n_blocks);
+    parallel::apply_to_subranges(
+      std::size_t(0),
+      n_blocks,
+      [&](const std::size_t first_block, const std::size_t end_block) {
+        for (std::size_t block = first_block; block < end_block; ++block)
+          {
+            const std::size_t end     = std::min(n, (block + 1) * block_size);
+            double            kinetic = 0., strain = 0.;
+            for (std::size_t i = block * block_size; i < end; ++i)
+              {
+                double ku = 0.;
+                for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
+                  ku += values[j] * u[columns[j]];
+                const double ai = (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
+                const double previous = vh[i];
+                a[i]                  = ai;
+                v[i]                  = previous + 0.5 * dt * ai;
+                vh[i]                 = previous + dt * ai;
+                kinetic += previous * mass[i] * vh[i];
+                strain += u[i] * ku;
+              }
+            block_energies[block] = {kinetic, strain};
+          }
+      },
+      1);
+    // Constrained unknowns do not count (as in the separate functions);
+    // their acceleration is zero, so their velocity did not change.
+    StepEnergies energies;
+    for (const auto &block : block_energies)
+      {
+        energies.kinetic += block.kinetic;
+        energies.strain += block.strain;
+      }
+    for (const auto &line : body_constraints.get_lines())
+      {
+        const std::size_t i  = line.index;
+        double            ku = 0.;
+        for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
+          ku += values[j] * u[columns[j]];
+        energies.kinetic -= vh[i] * mass[i] * vh[i];
+        energies.strain -= u[i] * ku;
+      }
+    energies.kinetic *= 0.5;
+    energies.strain *= 0.5;
+    step_energies = energies;
   }
 
   template <int dim>

@@ -198,6 +198,12 @@ namespace isoimpact
                      dealii::Vector<double>       *half_step_velocity,
                      dealii::Vector<double>       *velocity_out,
                      const double                  dt) const;
+    // compute_acceleration_and_velocities() with lumped mass: the
+    // product K u and the pass of lumped_step_pass() fused row by row.
+    void
+    fused_step(const dealii::Vector<double> &f,
+               dealii::Vector<double>       &half_step_velocity,
+               const double                  dt);
     void
     solve_mass(dealii::Vector<double>       &a,
                const dealii::Vector<double> &f) const;
