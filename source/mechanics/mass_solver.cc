@@ -137,6 +137,29 @@ namespace isoimpact
       }
     };
 
+    // sum[c] += sum_r a[r] b[r * nc + c], with four partial sums per c: one
+    // sum alone would wait for each addition (a chain of latencies).
+    template <int nc>
+    inline void
+    add_dots(const double *__restrict a,
+             const double *__restrict b,
+             const int n,
+             double *__restrict sum)
+    {
+      double partial[4][nc] = {};
+      int    r              = 0;
+      for (; r + 4 <= n; r += 4)
+        for (int k = 0; k < 4; ++k)
+          for (int c = 0; c < nc; ++c)
+            partial[k][c] += a[r + k] * b[(r + k) * nc + c];
+      for (; r < n; ++r)
+        for (int c = 0; c < nc; ++c)
+          partial[0][c] += a[r] * b[r * nc + c];
+      for (int c = 0; c < nc; ++c)
+        sum[c] +=
+          (partial[0][c] + partial[1][c]) + (partial[2][c] + partial[3][c]);
+    }
+
     // Forward substitution L z = y over the supernodes [s_begin, s_end),
     // nc right-hand sides interleaved in y. Updates of rows >=
     // separator_column go to `separator` (a subtree's private share of the
@@ -208,12 +231,11 @@ namespace isoimpact
               const double *__restrict column = node.column(j);
               const double *__restrict lower  = column + node.n_cols;
               double sum[nc]                  = {};
-              for (int r = 0; r < node.n_below; ++r)
-                for (int c = 0; c < nc; ++c)
-                  sum[c] += lower[r] * work[r * nc + c];
-              for (int r = j + 1; r < node.n_cols; ++r)
-                for (int c = 0; c < nc; ++c)
-                  sum[c] += column[r] * x[r * nc + c];
+              add_dots<nc>(lower, work, node.n_below, sum);
+              add_dots<nc>(column + j + 1,
+                           x + (j + 1) * nc,
+                           node.n_cols - j - 1,
+                           sum);
               for (int c = 0; c < nc; ++c)
                 x[j * nc + c] = (x[j * nc + c] - sum[c]) / column[j];
             }
