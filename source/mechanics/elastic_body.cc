@@ -251,17 +251,25 @@ namespace isoimpact
   }
 
   template <int dim>
+  bool
+  ElasticBody<dim>::step_zeroes_force() const
+  {
+    return fused_lumped_step;
+  }
+
+  template <int dim>
   void
-  ElasticBody<dim>::fused_step(const Vector<double> &f,
-                               Vector<double>       &half_step_velocity,
-                               const double          dt)
+  ElasticBody<dim>::fused_step(Vector<double> &f,
+                               Vector<double> &half_step_velocity,
+                               const double    dt)
   {
     // Row by row: (K u)_i as deal.II's vmult sums it (the same bits), then
     // a_i, v_i, v^{n+1/2}_i and the energies' terms while the row is at
     // hand. K u is not stored (strain_energy_of_last_acceleration() is then
     // not available: energies_of_last_step() replaces it). Blocks of a
     // fixed size keep the order of the energy sums independent of the
-    // threads.
+    // threads. The force is consumed: f is zero afterwards, ready for the
+    // next step's contact forces without a pass of its own.
     const SparsityPattern &pattern  = stiffness.get_sparsity_pattern();
     const std::size_t     *rowstart = CompressedRows::row_starts(pattern);
     const auto            *columns  = CompressedRows::column_numbers(pattern);
@@ -269,7 +277,7 @@ namespace isoimpact
     // first (square matrix, rowstart[0] = 0).
     const double     *values = &stiffness.diag_element(0);
     const double     *u      = displacement.data();
-    const double     *force  = f.data();
+    double           *force  = f.data();
     const double     *w      = step_inverse_mass.data();
     const double     *mass   = lumped_mass.data();
     double           *a      = acceleration.data();
@@ -295,6 +303,7 @@ namespace isoimpact
                 for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
                   ku += values[j] * u[columns[j]];
                 const double ai = (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
+                force[i]        = 0.; // consumed: zero for the next step
                 const double previous = vh[i];
                 a[i]                  = ai;
                 v[i]                  = previous + 0.5 * dt * ai;

@@ -34,6 +34,7 @@ namespace isoimpact
       {
         half_step_velocity.emplace_back(body->n_dofs());
         forces.emplace_back(body->n_dofs());
+        force_is_zero.push_back(true);
       }
     body_penalty_masses.resize(bodies.size());
     for (const auto &interaction : contacts)
@@ -74,8 +75,11 @@ namespace isoimpact
   void
   CentralDifference<dim>::evaluate_contacts(const bool record_contact_points)
   {
-    for (auto &f : forces)
-      f = 0.;
+    // A lumped body's step leaves its force zero (consumed in its pass).
+    for (unsigned int b = 0; b < forces.size(); ++b)
+      if (!force_is_zero[b])
+        forces[b] = 0.;
+    std::fill(force_is_zero.begin(), force_is_zero.end(), false);
     for (unsigned int c = 0; c < contacts.size(); ++c)
       results[c] = contacts[c].contact->evaluate(contact_displacements[c],
                                                  contact_velocities[c],
@@ -128,9 +132,12 @@ namespace isoimpact
       if (update_velocities)
         // v^{n+1} = v^{n+1/2} + dt/2 a^{n+1}; v^{n+3/2} = v^{n+1/2} + dt a,
         // fused with the acceleration (one pass for lumped mass).
-        bodies[b]->compute_acceleration_and_velocities(forces[b],
-                                                       half_step_velocity[b],
-                                                       dt);
+        {
+          bodies[b]->compute_acceleration_and_velocities(forces[b],
+                                                         half_step_velocity[b],
+                                                         dt);
+          force_is_zero[b] = bodies[b]->step_zeroes_force();
+        }
       else
         bodies[b]->compute_acceleration(bodies[b]->displacement,
                                         forces[b],

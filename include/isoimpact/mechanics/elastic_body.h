@@ -62,13 +62,18 @@ namespace isoimpact
      * One step of central differences after the forces: compute_acceleration
      * of the displacement into `acceleration`, then velocity = v^{n+1/2} +
      * dt/2 a and v^{n+1/2} += dt a (half_step_velocity). With lumped mass and
-     * constraints u_i = 0 alone, all of it in one pass after the mat-vec.
+     * constraints u_i = 0 alone, all of it in one pass with the mat-vec,
+     * which consumes f: it is zero on return (step_zeroes_force()).
      */
     void
     compute_acceleration_and_velocities(
       dealii::Vector<double> &f,
       dealii::Vector<double> &half_step_velocity,
       const double            dt);
+
+    // Whether compute_acceleration_and_velocities() leaves f zero.
+    bool
+    step_zeroes_force() const;
 
     // Energies per unit thickness (J/m) and momentum (kg/s per m) of the
     // modelled body, with the mass matrix in use.
@@ -201,9 +206,9 @@ namespace isoimpact
     // compute_acceleration_and_velocities() with lumped mass: the
     // product K u and the pass of lumped_step_pass() fused row by row.
     void
-    fused_step(const dealii::Vector<double> &f,
-               dealii::Vector<double>       &half_step_velocity,
-               const double                  dt);
+    fused_step(dealii::Vector<double> &f,
+               dealii::Vector<double> &half_step_velocity,
+               const double            dt);
     void
     solve_mass(dealii::Vector<double>       &a,
                const dealii::Vector<double> &f) const;

@@ -128,6 +128,8 @@ namespace isoimpact
     mutable double kinetic_energy_of_step =
       std::numeric_limits<double>::quiet_NaN();
     std::vector<dealii::Vector<double>> forces;
+    // Per body: forces[b] is zero (left so by the body's step).
+    std::vector<bool> force_is_zero;
     // Per contact interaction, built once: its bodies' displacements and
     // force vectors, in the order the contact model expects.
     std::vector<std::vector<const dealii::Vector<double> *>>
