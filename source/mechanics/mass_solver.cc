@@ -210,7 +210,9 @@ namespace isoimpact
 
     // Backward substitution L^T x = z over the supernodes [s_begin, s_end),
     // last first; the rows below them must be final. `work` holds
-    // n_below * nc values.
+    // (n_below + n_cols) * nc values. Each supernode's block is read in
+    // the order it is stored (the products with the rows below, column by
+    // column, first): read backwards, it was the slowest part of the solve.
     template <int nc>
     void
     backward(const cholmod_factor &L,
@@ -226,12 +228,23 @@ namespace isoimpact
           for (int r = 0; r < node.n_below; ++r)
             for (int c = 0; c < nc; ++c)
               work[r * nc + c] = y[std::size_t(node.rows[r]) * nc + c];
+          double *__restrict below_sums = work + node.n_below * nc;
+          for (int j = 0; j < node.n_cols; ++j)
+            {
+              double *sum = below_sums + j * nc;
+              for (int c = 0; c < nc; ++c)
+                sum[c] = 0.;
+              add_dots<nc>(node.column(j) + node.n_cols,
+                           work,
+                           node.n_below,
+                           sum);
+            }
           for (int j = node.n_cols - 1; j >= 0; --j)
             {
               const double *__restrict column = node.column(j);
-              const double *__restrict lower  = column + node.n_cols;
-              double sum[nc]                  = {};
-              add_dots<nc>(lower, work, node.n_below, sum);
+              double sum[nc];
+              for (int c = 0; c < nc; ++c)
+                sum[c] = below_sums[j * nc + c];
               add_dots<nc>(column + j + 1,
                            x + (j + 1) * nc,
                            node.n_cols - j - 1,
@@ -601,8 +614,13 @@ namespace isoimpact
           }
         factor->split_tree(MultithreadInfo::n_threads());
         factor->y.resize(std::size_t(m) * nc);
+        // The rows below a supernode, and one sum per column (backward).
+        int max_columns = 0;
+        for (std::size_t s = 0; s < factor->L->nsuper; ++s)
+          max_columns = std::max(max_columns, Supernode(*factor->L, s).n_cols);
         factor->below.assign(factor->n_tasks() + 1,
-                             std::vector<double>(factor->L->maxesize * nc));
+                             std::vector<double>(
+                               (factor->L->maxesize + max_columns) * nc));
         if (factor->n_tasks() > 1)
           factor->separator_updates.assign(
             factor->n_tasks(),
