@@ -219,7 +219,7 @@ namespace isoimpact
       {
         stiffness_times_u.reinit(u.size(), true);
         stiffness.vmult(stiffness_times_u, u);
-        lumped_step_pass(f, a, nullptr, nullptr, 0.);
+        lumped_step_pass(f, a);
         return;
       }
     body_constraints.condense(f);
@@ -340,75 +340,22 @@ namespace isoimpact
   template <int dim>
   void
   ElasticBody<dim>::lumped_step_pass(const Vector<double> &f,
-                                     Vector<double>       &a,
-                                     Vector<double>       *half_step_velocity,
-                                     Vector<double>       *velocity_out,
-                                     const double          dt) const
+                                     Vector<double>       &a) const
   {
     // The same operations per entry as the separate passes (condense,
-    // subtract, scale, distribute, two vector updates): the same bits.
-    // With the velocities, the pass also sums the energies of the step
-    // (energies_of_last_step()): u . K u and v^{n-1/2} . M v^{n+1/2}, the
-    // old half-step velocity read before it is overwritten. Blocks of a
-    // fixed size keep the order of the sums independent of the threads.
-    constexpr types::global_dof_index block_size = 4096;
-    const types::global_dof_index     n_blocks =
-      (a.size() + block_size - 1) / block_size;
-    if (half_step_velocity != nullptr)
-      block_energies.resize(n_blocks);
+    // subtract, scale, distribute): the same bits.
     parallel::apply_to_subranges(
       types::global_dof_index(0),
-      n_blocks,
-      [&](const types::global_dof_index first_block,
-          const types::global_dof_index end_block) {
-        for (types::global_dof_index block = first_block; block < end_block;
-             ++block)
+      a.size(),
+      [&](const types::global_dof_index begin,
+          const types::global_dof_index end) {
+        for (types::global_dof_index i = begin; i < end; ++i)
           {
-            const types::global_dof_index begin = block * block_size;
-            const types::global_dof_index end =
-              std::min<types::global_dof_index>(begin + block_size, a.size());
-            for (types::global_dof_index i = begin; i < end; ++i)
-              {
-                const double w = step_inverse_mass(i);
-                a(i) = (w == 0.) ? 0. : (f(i) - stiffness_times_u(i)) * w;
-              }
-            if (half_step_velocity == nullptr)
-              continue;
-            Vector<double> &v       = *velocity_out;
-            Vector<double> &vh      = *half_step_velocity;
-            double          kinetic = 0., strain = 0.;
-            for (types::global_dof_index i = begin; i < end; ++i)
-              {
-                const double previous = vh(i);
-                v(i)                  = previous + 0.5 * dt * a(i);
-                vh(i)                 = previous + dt * a(i);
-                kinetic += previous * lumped_mass(i) * vh(i);
-                strain += displacement(i) * stiffness_times_u(i);
-              }
-            block_energies[block] = {kinetic, strain};
+            const double w = step_inverse_mass(i);
+            a(i)           = (w == 0.) ? 0. : (f(i) - stiffness_times_u(i)) * w;
           }
       },
-      1);
-    if (half_step_velocity == nullptr)
-      return;
-    // Constrained unknowns do not count (as in the separate functions);
-    // their acceleration is zero, so their velocity did not change.
-    StepEnergies energies;
-    for (const auto &block : block_energies)
-      {
-        energies.kinetic += block.kinetic;
-        energies.strain += block.strain;
-      }
-    const Vector<double> &vh = *half_step_velocity;
-    for (const auto &line : body_constraints.get_lines())
-      {
-        const unsigned int i = line.index;
-        energies.kinetic -= vh(i) * lumped_mass(i) * vh(i);
-        energies.strain -= displacement(i) * stiffness_times_u(i);
-      }
-    energies.kinetic *= 0.5;
-    energies.strain *= 0.5;
-    step_energies = energies;
+      4096);
   }
 
   template <int dim>

@@ -194,15 +194,11 @@ namespace isoimpact
     void
     mass_vmult(dealii::Vector<double>       &y,
                const dealii::Vector<double> &x) const;
-    // a = (f - scratch) / m on free rows, 0 on constrained ones; with
-    // half_step_velocity also the velocity updates of
-    // compute_acceleration_and_velocities. stiffness_times_u holds K u.
+    // a = (f - K u) / m on free rows, 0 on constrained ones, K u in
+    // stiffness_times_u.
     void
     lumped_step_pass(const dealii::Vector<double> &f,
-                     dealii::Vector<double>       &a,
-                     dealii::Vector<double>       *half_step_velocity,
-                     dealii::Vector<double>       *velocity_out,
-                     const double                  dt) const;
+                     dealii::Vector<double>       &a) const;
     // compute_acceleration_and_velocities() with lumped mass: the
     // product K u and the pass of lumped_step_pass() fused row by row.
     void
