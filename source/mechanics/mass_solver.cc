@@ -224,6 +224,18 @@ namespace isoimpact
       for (int s = s_end - 1; s >= s_begin; --s)
         {
           const Supernode node(L, s);
+          // The supernodes are visited against their storage order, which
+          // the hardware prefetch does not follow: ask for the start of the
+          // next one's block.
+          if (s > s_begin)
+            {
+              const Supernode   next(L, s - 1);
+              const std::size_t n_values =
+                std::min<std::size_t>(std::size_t(next.n_rows) * next.n_cols,
+                                      1024);
+              for (std::size_t k = 0; k < n_values; k += 8)
+                __builtin_prefetch(next.block + k);
+            }
           double *__restrict x = y + std::size_t(node.k1) * nc;
           for (int r = 0; r < node.n_below; ++r)
             for (int c = 0; c < nc; ++c)
