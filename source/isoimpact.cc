@@ -60,6 +60,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -610,6 +611,25 @@ main(int argc, char **argv)
         }
       return 0;
     }
+
+  // Started by an MPI launcher with more than one rank, every rank would
+  // run the whole scene into the same files. This program runs on one
+  // process (threads: DEAL_II_NUM_THREADS) until the distributed version
+  // exists (issue 13): refused before anything is read or written. The
+  // launchers say the number of ranks in the environment (Open MPI, and
+  // PMI for MPICH and Slurm).
+  for (const char *variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char *value = std::getenv(variable))
+      if (std::atoi(value) > 1)
+        {
+          std::cerr << "isoimpact: error in " << argument << ": started as "
+                    << value << " MPI ranks (" << variable << " = " << value
+                    << "); this version runs on one process only: start it "
+                       "without mpirun, or with -np 1, and set the threads "
+                       "with DEAL_II_NUM_THREADS"
+                    << std::endl;
+          return 2;
+        }
 
   try
     {
