@@ -4,7 +4,9 @@
 // (ElasticBody::compute_acceleration, with the mass solve) against contact
 // and the integrator's vector updates. Each figure is the fastest of
 // `rounds` interleaved rounds of n_steps steps (resp. products), so that a
-// busy neighbour on the machine inflates no figure more than the others.
+// busy neighbour on the machine inflates no figure more than the others;
+// the step and the mat-vec are also timed in pairs (a step, then the
+// product), and the median of the pairs' ratios is reported beside.
 // Memory: the peak resident set of the process (VmHWM) and, for consistent
 // mass, the Cholesky factors. The last line, "RESULT key=value ...", is read
 // by benchmarks/step_cost_sweep.py.
@@ -18,6 +20,7 @@
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 using namespace dealii;
 
@@ -75,20 +78,30 @@ main(int argc, char **argv)
       double       accel_time = infinity;
       double       solve_time = infinity;
       Timer        timer;
+      // Each step is followed by the mat-vec it is compared with, so that
+      // a change of the machine's load hits both alike: the median of these
+      // paired ratios is the figure that noise moves least.
+      std::vector<double> paired_ratios;
       for (unsigned int round = 0; round < rounds; ++round)
         {
-          timer.restart();
+          double round_steps = 0., round_matvecs = 0.;
           for (unsigned int step = 0; step < n_steps; ++step)
-            integrator.advance();
-          step_time = std::min(step_time, timer.wall_time() / n_steps);
-
-          timer.restart();
-          for (unsigned int step = 0; step < n_steps; ++step)
-            for (unsigned int b = 0; b < scene.bodies.size(); ++b)
-              scene.bodies[b]->stiffness_matrix().vmult(
-                products[b],
-                scene.bodies[b]->displacement);
-          matvec = std::min(matvec, timer.wall_time() / n_steps);
+            {
+              timer.restart();
+              integrator.advance();
+              const double one_step = timer.wall_time();
+              timer.restart();
+              for (unsigned int b = 0; b < scene.bodies.size(); ++b)
+                scene.bodies[b]->stiffness_matrix().vmult(
+                  products[b],
+                  scene.bodies[b]->displacement);
+              const double one_matvec = timer.wall_time();
+              round_steps += one_step;
+              round_matvecs += one_matvec;
+              paired_ratios.push_back(one_step / one_matvec);
+            }
+          step_time = std::min(step_time, round_steps / n_steps);
+          matvec    = std::min(matvec, round_matvecs / n_steps);
 
           // The acceleration alone (no contact force): condensation, K u,
           // mass solve, distribution.
@@ -113,6 +126,13 @@ main(int argc, char **argv)
                 solver->solve(products[b], scene.bodies[b]->velocity);
           solve_time = std::min(solve_time, timer.wall_time() / n_steps);
         }
+
+      std::sort(paired_ratios.begin(), paired_ratios.end());
+      const std::size_t n_pairs = paired_ratios.size();
+      const double      paired_ratio =
+        n_pairs % 2 == 1 ?
+               paired_ratios[n_pairs / 2] :
+               0.5 * (paired_ratios[n_pairs / 2 - 1] + paired_ratios[n_pairs / 2]);
 
       std::size_t nonzeros = 0, factor_nonzeros = 0, factor_bytes = 0,
                   factor_entries = 0;
@@ -160,7 +180,9 @@ main(int argc, char **argv)
                 << 1e9 * accel_time / n << " ns per unknown)\n"
                 << "bare mat-vec (all K) " << 1e3 * matvec << " ms ("
                 << 1e9 * matvec / n << " ns per unknown)\n"
-                << "step / mat-vec       " << step_time / matvec << std::endl;
+                << "step / mat-vec       " << step_time / matvec
+                << " (fastest rounds), " << paired_ratio << " (median of "
+                << paired_ratios.size() << " step/mat-vec pairs)" << std::endl;
       std::cout << "RESULT unknowns=" << scene.n_dofs()
                 << " mass=" << to_string(parameters.mass_scheme)
                 << " contact=" << (contact_on ? 1 : 0)
@@ -168,6 +190,7 @@ main(int argc, char **argv)
                 << " accel_ns=" << 1e9 * accel_time / n << " solve_ns="
                 << (factor_nonzeros > 0 ? 1e9 * solve_time / n : 0.)
                 << " matvec_ns=" << 1e9 * matvec / n
+                << " paired_ratio=" << paired_ratio
                 << " peak_bytes=" << peak / n
                 << " factor_bytes=" << factor_bytes / n
                 << " factor_nnz=" << factor_nonzeros / n
