@@ -301,7 +301,9 @@ def table_row(run, window_s):
            "max_energy_error_percent": 100 * s["max_energy_error"]}
     for column, key, error_column, error_key in SUMMARY_VALUES:
         row[column] = s[key]
-        row[error_column] = 100 * s["relative_error"][error_key]
+        # None: no value to compare (the contact lasts at the end time).
+        error = s["relative_error"][error_key]
+        row[error_column] = None if error is None else 100 * error
     for signal in ("force", "pressure"):
         row[f"{signal}_oscillation_vs_analytic_percent"] = 100 * m[signal]["total"]
         row[f"{signal}_oscillation_vs_moving_average_percent"] = 100 * m[signal]["chatter"]
@@ -341,7 +343,8 @@ def write_tables(runs, study, window_s, jobs_note):
         f"Wall time: {jobs_note}.",
         "",
         markdown_table([c[1] for c in COLUMNS],
-                       [[c[2].format(r[c[0]]) for c in COLUMNS] for r in rows]),
+                       [["-" if r[c[0]] is None else c[2].format(r[c[0]])
+                         for c in COLUMNS] for r in rows]),
         "",
         "## Oscillation against the own moving average, by window",
         "",

@@ -545,6 +545,14 @@ namespace isoimpact
     if (scene.reference)
       pcout << " (analytic " << scene.reference->peak_force() << " N/m at "
             << scene.reference->time_of_peak() << " s)";
+    if (!summary->contact_ended())
+      pcout
+        << "\n  warning: the bodies are still in contact at the end time "
+        << parameters.end_time << " s: contact_duration_s in summary.json ("
+        << summary->contact_duration()
+        << " s) is the contact time so far, not the duration (contact_ended "
+           "= false); raise 'Time integration/End time' to see the "
+           "separation";
     pcout << "\n  max energy error " << 100. * summary->max_energy_error()
           << " %\n"
           << "  results: " << parameters.output_directory

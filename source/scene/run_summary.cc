@@ -66,6 +66,7 @@ namespace isoimpact
     forces.push_back(record.contact_force);
     pressures.push_back(record.max_pressure);
     deepest_penetration = std::max(deepest_penetration, record.penetration);
+    in_contact_at_last  = record.in_contact;
     if (record.in_contact)
       {
         if (first_contact < 0.)
@@ -122,6 +123,14 @@ namespace isoimpact
   RunSummary::contact_duration() const
   {
     return (first_contact >= 0.) ? last_contact - first_contact : 0.;
+  }
+
+
+
+  bool
+  RunSummary::contact_ended() const
+  {
+    return !in_contact_at_last;
   }
 
 
@@ -277,6 +286,7 @@ namespace isoimpact
     summary["peak_contact_force_N_per_m"] = peak_force();
     summary["time_of_peak_force_s"]       = time_of_peak_force();
     summary["contact_duration_s"]         = contact_duration();
+    summary["contact_ended"]              = contact_ended();
     summary["peak_contact_pressure_Pa"]   = peak_pressure();
     summary["filter_window_s"]            = filter_window();
     summary["filtered_peak_contact_force_N_per_m"] = filtered_force;
@@ -303,7 +313,12 @@ namespace isoimpact
         summary["relative_error"] = {
           {"peak_contact_force", rel(peak_force(), ref.peak_force())},
           {"time_of_peak_force", rel(time_of_peak_force(), ref.time_of_peak())},
-          {"contact_duration", rel(contact_duration(), ref.contact_duration())},
+          // Still in contact at the end: no duration to compare.
+          {"contact_duration",
+           contact_ended() ?
+             nlohmann::ordered_json(
+               rel(contact_duration(), ref.contact_duration())) :
+             nlohmann::ordered_json()},
           {"peak_contact_pressure", rel(peak_pressure(), ref.peak_pressure())},
           {"filtered_peak_contact_force",
            rel(filtered_force, ref.peak_force())},

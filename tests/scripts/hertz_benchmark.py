@@ -34,6 +34,8 @@ analytic = summary["analytic"]
 check_close("filtered peak contact force [N/m] vs Gerl-Zippelius",
             summary["filtered_peak_contact_force_N_per_m"],
             analytic["peak_contact_force_N_per_m"], 0.10)
+check_true("the bodies separate before the end time (contact_ended)",
+           summary["contact_ended"] is True)
 check_close("contact duration [s]", summary["contact_duration_s"],
             analytic["contact_duration_s"], 0.10)
 check_true("max energy error %.3g below 2 %%" % summary["max_energy_error"],

@@ -102,6 +102,17 @@ rows = history_rows(os.path.join(workdir, "end_time"))
 check_close("end time: the last row is at the end time [s]", float(rows[-1][0]), 0.10025, 1e-12)
 check_true("end time: the setup says the step was shortened",
            "the step 0.0005 s shortened so that the last step ends at the end time" in run.stdout)
+# The run stops inside the impact: no contact duration to report as one.
+check_true("end time inside the impact: contact_ended is false",
+           summary["contact_ended"] is False)
+# The cylinders touch at t = 0; the first step (t = dt) has the first
+# active contact point.
+check_close("end time inside the impact: contact time so far [s] = end time - dt",
+            summary["contact_duration_s"], 0.10025 - summary["time_step_s"], 1e-12)
+check_true("end time inside the impact: no relative error of the duration (null)",
+           summary["relative_error"]["contact_duration"] is None)
+check_true("end time inside the impact: the program warns that the contact lasts",
+           "still in contact at the end time" in run.stdout)
 
 # 3. SIGTERM and SIGKILL during a run (tens of seconds of steps, a progress line
 # every 1 %).

@@ -102,9 +102,15 @@ namespace isoimpact
     time_of_peak_force() const;
     double
     peak_pressure() const;
-    // Last minus first time in contact; 0 without contact.
+    // Last minus first time in contact; 0 without contact. While the
+    // contact lasts at the last step (contact_ended() false), the time in
+    // contact so far: a lower bound.
     double
     contact_duration() const;
+    // Whether the last step recorded is out of contact (true without
+    // contact).
+    bool
+    contact_ended() const;
     double
     current_force() const;
     double
@@ -144,6 +150,7 @@ namespace isoimpact
     std::vector<double> times, forces, pressures;
     double              first_contact        = -1.;
     double              last_contact         = -1.;
+    bool                in_contact_at_last   = false;
     double              initial_energy       = 0.;
     bool                has_initial_energy   = false;
     double              last_energy_error    = 0.;
