@@ -50,8 +50,11 @@ def run(program, prm, work, k, relative):
     edit_prm(prm, name + ".prm",
              {"Body 1/Initial velocity": ", ".join(repr(v) for v in velocity),
               "Output/Directory": name, "Output/VTU interval": 0})
-    subprocess.run([program, name + ".prm"], cwd=work, check=True,
-                   capture_output=True)
+    result = subprocess.run([program, name + ".prm"], cwd=work,
+                            capture_output=True, text=True)
+    if result.returncode != 0:
+        sys.exit(f"run {k} of {prm} failed (exit {result.returncode}):\n"
+                 + result.stderr.strip())
     m = measures(name)
     with open(os.path.join(name, "summary.json")) as f:
         m["filtered_peak"] = json.load(f)["filtered_peak_contact_force_N_per_m"]
@@ -68,6 +71,12 @@ def main():
     args = parser.parse_args()
     program = os.path.abspath(args.program)
     prm = os.path.abspath(args.prm)
+    for path in (program, prm):
+        if not os.path.isfile(path):
+            sys.exit(f"round_off_sensitivity: no file {path}")
+    if args.runs < 2:
+        sys.exit(f"round_off_sensitivity: --runs {args.runs}: at least 2 runs "
+                 "are needed for a range")
     with tempfile.TemporaryDirectory() as scratch:
         work = os.path.abspath(args.work) if args.work else scratch
         os.makedirs(work, exist_ok=True)
