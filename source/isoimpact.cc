@@ -477,8 +477,9 @@ namespace isoimpact
         {
           const Lap lap(loop_time);
           // The contact points and nodal pressures for the profile and
-          // the ParaView output.
-          integrator->advance(profile || is_vtu_step(step));
+          // the ParaView output; the whole-step velocity for the latter
+          // only (the other steps do not read it).
+          integrator->advance(profile || is_vtu_step(step), is_vtu_step(step));
           failure = monitor->check();
         }
         if (!failure.empty())

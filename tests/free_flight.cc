@@ -46,6 +46,8 @@
 // 4. The strain energy of the integrator's balance, which reuses the
 //    product K u of the step's acceleration, equals 1/2 u.K u by a separate
 //    product (ElasticBody::strain_energy) to 1e-12 of E^0 at every step.
+// 5. A twin run that forms the whole-step velocity and acceleration only
+//    every 7th step (as the program between outputs) has the same bits.
 #include <deal.II/base/numbers.h>
 
 #include <isoimpact/discretization/discretization_fea.h>
@@ -183,6 +185,37 @@ namespace
                                     dt);
     integrator.initialize();
 
+    // 5. A twin of the run whose steps form the whole-step velocity and
+    // acceleration only every 7th step (CentralDifference::advance with
+    // form_whole_step_state = false, as the program between outputs): the
+    // displacements and the energy balance at every step, and the velocity
+    // and acceleration at the forming steps, have the same bits as the run's.
+    auto twin_1 = make_body(Point<2>(0., 4.), scheme, Tensor<1, 2>({0., 2.}));
+    auto twin_2 = make_body(Point<2>(0., -5.), scheme, Tensor<1, 2>({0., -2.}));
+    twin_1->body->displacement = body_1->body->displacement;
+    twin_1->body->velocity     = body_1->body->velocity;
+    twin_2->body->displacement = body_2->body->displacement;
+    twin_2->body->velocity     = body_2->body->velocity;
+    const PenaltyContact<2> twin_contact(
+      ContactSettings(),
+      twin_1->body->discretization().boundary_segments(
+        BodyGeometry::curved_boundary_id),
+      twin_2->body->discretization().boundary_segments(
+        BodyGeometry::curved_boundary_id));
+    CentralDifference<2> twin({twin_1->body.get(), twin_2->body.get()},
+                              {{&twin_contact, 0, 1}},
+                              dt);
+    twin.initialize();
+    double       max_twin_difference  = 0.;
+    unsigned int twin_states_compared = 0;
+    const auto   twin_difference      = [](const Vector<double> &x,
+                                    const Vector<double> &y) {
+      double difference = 0.;
+      for (unsigned int i = 0; i < x.size(); ++i)
+        difference = std::max(difference, std::abs(x(i) - y(i)));
+      return difference;
+    };
+
     std::vector<Tensor<1, 2>> p0, first_moment;
     std::vector<double>       L0, L_scale;
     double                    E0 = 0.;
@@ -235,6 +268,29 @@ namespace
       {
         integrator.advance();
         const EnergyBalance balance = integrator.energy_balance();
+        {
+          const bool form_state = (n % 7 == 0);
+          twin.advance(false, form_state);
+          max_twin_difference =
+            std::max({max_twin_difference,
+                      std::abs(twin.energy_balance().total() - balance.total()),
+                      twin_difference(twin_1->body->displacement,
+                                      body_1->body->displacement),
+                      twin_difference(twin_2->body->displacement,
+                                      body_2->body->displacement)});
+          if (form_state)
+            {
+              for (const auto &[twin_body, body] :
+                   {std::make_pair(twin_1->body.get(), body_1->body.get()),
+                    std::make_pair(twin_2->body.get(), body_2->body.get())})
+                max_twin_difference = std::max(
+                  {max_twin_difference,
+                   twin_difference(twin_body->velocity, body->velocity),
+                   twin_difference(twin_body->acceleration,
+                                   body->acceleration)});
+              ++twin_states_compared;
+            }
+        }
         max_contact =
           std::max({max_contact,
                     balance.contact,
@@ -307,6 +363,12 @@ namespace
               << "; max |E - E0| / E0 " << energy_deviation_half[0]
               << " (first half), " << energy_deviation_half[1]
               << " (second half)" << std::endl;
+    std::cout << "    twin run forming the state every 7th step: max "
+                 "difference "
+              << max_twin_difference << " over " << n_steps << " steps, "
+              << twin_states_compared << " states compared" << std::endl;
+    CHECK_CLOSE_ABS(max_twin_difference, 0., 0.);
+    CHECK_CLOSE_ABS(twin_states_compared, n_steps / 7, 0.);
     CHECK_CLOSE_ABS(max_p_error, 0., 1e-12);
     CHECK_CLOSE_ABS(max_L_error, 0., 1e-11);
     CHECK_CLOSE_ABS(max_contact, 0., 0.);

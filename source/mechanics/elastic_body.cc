@@ -236,7 +236,8 @@ namespace isoimpact
   ElasticBody<dim>::compute_acceleration_and_velocities(
     Vector<double> &f,
     Vector<double> &half_step_velocity,
-    const double    dt)
+    const double    dt,
+    const bool      form_whole_step_state)
   {
     if (!fused_lumped_step)
       {
@@ -247,7 +248,10 @@ namespace isoimpact
         half_step_velocity.add(dt, acceleration);
         return;
       }
-    fused_step(f, half_step_velocity, dt);
+    if (form_whole_step_state)
+      fused_step<true>(f, half_step_velocity, dt);
+    else
+      fused_step<false>(f, half_step_velocity, dt);
   }
 
   template <int dim>
@@ -258,6 +262,7 @@ namespace isoimpact
   }
 
   template <int dim>
+  template <bool form_whole_step_state>
   void
   ElasticBody<dim>::fused_step(Vector<double> &f,
                                Vector<double> &half_step_velocity,
@@ -305,9 +310,12 @@ namespace isoimpact
                 const double ai = (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
                 force[i]        = 0.; // consumed: zero for the next step
                 const double previous = vh[i];
-                a[i]                  = ai;
-                v[i]                  = previous + 0.5 * dt * ai;
-                vh[i]                 = previous + dt * ai;
+                if constexpr (form_whole_step_state)
+                  {
+                    a[i] = ai;
+                    v[i] = previous + 0.5 * dt * ai;
+                  }
+                vh[i] = previous + dt * ai;
                 kinetic += previous * mass[i] * vh[i];
                 strain += u[i] * ku;
               }

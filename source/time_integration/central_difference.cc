@@ -91,7 +91,8 @@ namespace isoimpact
   void
   CentralDifference<dim>::compute_accelerations(
     const bool record_contact_points,
-    const bool update_velocities)
+    const bool update_velocities,
+    const bool form_whole_step_state)
   {
     if (boundary)
       {
@@ -133,9 +134,12 @@ namespace isoimpact
         // v^{n+1} = v^{n+1/2} + dt/2 a^{n+1}; v^{n+3/2} = v^{n+1/2} + dt a,
         // fused with the acceleration (one pass for lumped mass).
         {
-          bodies[b]->compute_acceleration_and_velocities(forces[b],
-                                                         half_step_velocity[b],
-                                                         dt);
+          bodies[b]->compute_acceleration_and_velocities(
+            forces[b],
+            half_step_velocity[b],
+            dt,
+            // energy_balance() reads the bipenalty's acceleration.
+            form_whole_step_state || bipenalty);
           force_is_zero[b] = bodies[b]->step_zeroes_force();
         }
       else
@@ -159,12 +163,13 @@ namespace isoimpact
 
   template <int dim>
   void
-  CentralDifference<dim>::advance(const bool record_contact_points)
+  CentralDifference<dim>::advance(const bool record_contact_points,
+                                  const bool form_whole_step_state)
   {
     kinetic_energy_of_step = std::numeric_limits<double>::quiet_NaN();
     for (unsigned int b = 0; b < bodies.size(); ++b)
       bodies[b]->displacement.add(dt, half_step_velocity[b]);
-    compute_accelerations(record_contact_points, true);
+    compute_accelerations(record_contact_points, true, form_whole_step_state);
     for (const auto &result : results)
       contact_damping_work += dt * result.damping_power;
     ++step;

@@ -73,9 +73,15 @@ namespace isoimpact
     initialize(const bool record_contact_points = false);
 
     // One step; the bodies' displacement, velocity (whole step) and
-    // acceleration are those of the new time afterwards.
+    // acceleration are those of the new time afterwards. With
+    // form_whole_step_state = false a lumped body may leave its velocity and
+    // acceleration those of an earlier step (ElasticBody::
+    // compute_acceleration_and_velocities): for the steps whose state nobody
+    // reads. The displacement, the energies and the contact results are
+    // those of the new time either way, with the same bits.
     void
-    advance(const bool record_contact_points = false);
+    advance(const bool record_contact_points = false,
+            const bool form_whole_step_state = true);
 
     double
     time() const;
@@ -114,7 +120,8 @@ namespace isoimpact
     evaluate_contacts(const bool record_contact_points);
     void
     compute_accelerations(const bool record_contact_points,
-                          const bool update_velocities = false);
+                          const bool update_velocities     = false,
+                          const bool form_whole_step_state = true);
 
     std::vector<ElasticBody<dim> *>      bodies;
     std::vector<ContactInteraction<dim>> contacts;
