@@ -243,8 +243,11 @@ namespace isoimpact
       {
         // Resets step_energies: the separate functions compute them.
         compute_acceleration(displacement, f, acceleration);
-        velocity = half_step_velocity;
-        velocity.add(0.5 * dt, acceleration);
+        if (form_whole_step_state)
+          {
+            velocity = half_step_velocity;
+            velocity.add(0.5 * dt, acceleration);
+          }
         half_step_velocity.add(dt, acceleration);
         return;
       }

@@ -64,10 +64,11 @@ namespace isoimpact
      * dt/2 a and v^{n+1/2} += dt a (half_step_velocity). With lumped mass and
      * constraints u_i = 0 alone, all of it in one pass with the mat-vec,
      * which consumes f: it is zero on return (step_zeroes_force()).
-     * In that pass, form_whole_step_state = false leaves `acceleration` and
-     * `velocity` as they were (those of an earlier step): the step needs
-     * only v^{n+1/2}, and the two writes cost 5 % of a step at 1e6 unknowns
-     * (doc/performance.md). Everything else has the same bits either way.
+     * form_whole_step_state = false leaves `velocity` as it was (that of an
+     * earlier step), and in the fused pass `acceleration` too: the step
+     * needs only v^{n+1/2}, and the two writes cost 5 % of a lumped step at
+     * 1e6 unknowns (doc/performance.md). Everything else has the same bits
+     * either way.
      */
     void
     compute_acceleration_and_velocities(

@@ -74,8 +74,8 @@ namespace isoimpact
 
     // One step; the bodies' displacement, velocity (whole step) and
     // acceleration are those of the new time afterwards. With
-    // form_whole_step_state = false a lumped body may leave its velocity and
-    // acceleration those of an earlier step (ElasticBody::
+    // form_whole_step_state = false a body leaves its velocity (and
+    // a lumped body its acceleration) those of an earlier step (ElasticBody::
     // compute_acceleration_and_velocities): for the steps whose state nobody
     // reads. The displacement, the energies and the contact results are
     // those of the new time either way, with the same bits.
