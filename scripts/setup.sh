@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(cmake g++ make libdeal.ii-dev libeigen3-dev nlohmann-json3-dev zlib1g-dev libsuitesparse-dev python3
+packages=(cmake g++ make libdeal.ii-dev openmpi-bin libeigen3-dev nlohmann-json3-dev zlib1g-dev libsuitesparse-dev python3
   python3-numpy python3-vtk9 python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do

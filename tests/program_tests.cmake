@@ -198,3 +198,15 @@ add_test(NAME mass_redistribution_remedy
     $<TARGET_FILE:isoimpact_program> ${CMAKE_CURRENT_SOURCE_DIR}/prm
     ${_work}/mass_redistribution_remedy)
 set_tests_properties(mass_redistribution_remedy PROPERTIES TIMEOUT 900)
+
+# The distribution of the unknowns over 2 MPI ranks and the distributed
+# stiffness product (issue 13's first step); the same program runs above as
+# one process.
+find_program(ISOIMPACT_MPIRUN mpirun)
+if(NOT ISOIMPACT_MPIRUN)
+  message(FATAL_ERROR "mpirun not found (Debian: apt-get install openmpi-bin)")
+endif()
+add_test(NAME unknown_partition_2_ranks
+  COMMAND ${ISOIMPACT_MPIRUN} --allow-run-as-root --oversubscribe -np 2
+    $<TARGET_FILE:test_unknown_partition>)
+set_tests_properties(unknown_partition_2_ranks PROPERTIES TIMEOUT 300)

@@ -313,7 +313,8 @@ namespace isoimpact
   for_each_element(const Discretization<dim> &discretization,
                    const ElasticMaterial     &material,
                    const MassScheme           scheme,
-                   const ElementVisitor      &visit)
+                   const ElementVisitor      &visit,
+                   const CellFilter          &cell_filter)
   {
     const auto                          &fe = discretization.fe();
     FEValues<dim>                        fe_values(discretization.mapping(),
@@ -329,6 +330,8 @@ namespace isoimpact
     for (const auto &cell :
          discretization.dof_handler().active_cell_iterators())
       {
+        if (cell_filter && !cell_filter(cell->active_cell_index()))
+          continue;
         fe_values.reinit(cell);
         stiffness = 0.;
         mass      = 0.;
@@ -383,5 +386,6 @@ namespace isoimpact
   for_each_element(const Discretization<2> &,
                    const ElasticMaterial &,
                    const MassScheme,
-                   const ElementVisitor &);
+                   const ElementVisitor &,
+                   const CellFilter &);
 } // namespace isoimpact

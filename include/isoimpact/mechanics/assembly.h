@@ -94,12 +94,16 @@ namespace isoimpact
                        const dealii::FullMatrix<double> &stiffness,
                        const dealii::FullMatrix<double> &mass)>;
 
+  // With a filter: the cells whose active_cell_index() it accepts only (in
+  // the same order).
+  using CellFilter = std::function<bool(unsigned int active_cell_index)>;
   template <int dim>
   void
   for_each_element(const Discretization<dim> &discretization,
                    const ElasticMaterial     &material,
                    const MassScheme           scheme,
-                   const ElementVisitor      &visit);
+                   const ElementVisitor      &visit,
+                   const CellFilter          &cell_filter = {});
 
   // Integral of the density over the mesh (exact geometry of the mapping).
   template <int dim>

@@ -1,0 +1,63 @@
+// Layer 3: the distribution of a discretisation's unknowns over MPI ranks
+// (issue 13; the design is in doc/parallel.md). Not used by the program yet.
+#ifndef isoimpact_unknown_partition_h
+#define isoimpact_unknown_partition_h
+
+#include <deal.II/base/index_set.h>
+
+#include <isoimpact/discretization/discretization.h>
+
+#include <vector>
+
+namespace isoimpact
+{
+  /**
+   * The cells are split by METIS into parts of equal size along their face
+   * graph (every rank computes the same split). An unknown belongs to the
+   * part of the first active cell whose shape functions it carries: one
+   * rule for FEA nodes and IGA control points, whose support spans several
+   * cells. A part's relevant unknowns are those of every cell that carries
+   * one of its own: the columns of its rows of the stiffness and mass
+   * matrices (without hanging-node constraints), so the ghosts a step must
+   * receive are relevant minus owned.
+   */
+  template <int dim>
+  class UnknownPartition
+  {
+  public:
+    UnknownPartition(const Discretization<dim> &discretization,
+                     const unsigned int         n_parts);
+
+    unsigned int
+    n_parts() const;
+
+    // Part of an active cell (by its active_cell_index()).
+    unsigned int
+    cell_owner(const unsigned int active_cell_index) const;
+
+    // Part that owns an unknown.
+    unsigned int
+    owner(const dealii::types::global_dof_index unknown) const;
+
+    const dealii::IndexSet &
+    owned_unknowns(const unsigned int part) const;
+
+    const dealii::IndexSet &
+    relevant_unknowns(const unsigned int part) const;
+
+    // Whether an active cell carries one of the part's unknowns: the cells
+    // its rows of K and M are assembled from (without communication; the
+    // cells at the parts' interface are computed by both).
+    bool
+    is_assembly_cell(const unsigned int active_cell_index,
+                     const unsigned int part) const;
+
+  private:
+    std::vector<unsigned int>              cell_owners;
+    std::vector<unsigned int>              unknown_owners;
+    std::vector<dealii::IndexSet>          owned, relevant;
+    std::vector<std::vector<unsigned int>> assembly_cells; // sorted
+  };
+} // namespace isoimpact
+
+#endif

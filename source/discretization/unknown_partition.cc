@@ -1,0 +1,157 @@
+// Layer 3: the distribution of the unknowns over MPI ranks.
+#include <deal.II/base/exceptions.h>
+
+#include <deal.II/grid/grid_tools.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+
+#include <isoimpact/discretization/unknown_partition.h>
+
+#include <algorithm>
+
+using namespace dealii;
+
+namespace isoimpact
+{
+  template <int dim>
+  UnknownPartition<dim>::UnknownPartition(
+    const Discretization<dim> &discretization,
+    const unsigned int         n_parts)
+  {
+    const auto        &mesh    = discretization.triangulation();
+    const unsigned int n_cells = mesh.n_active_cells();
+    AssertThrow(n_parts >= 1 && n_parts <= n_cells,
+                ExcMessage("cannot split " + std::to_string(n_cells) +
+                           " cells into " + std::to_string(n_parts) +
+                           " parts: allowed are 1 to the number of cells"));
+
+    // METIS on the cells' face graph.
+    cell_owners.assign(n_cells, 0);
+    if (n_parts > 1)
+      {
+        DynamicSparsityPattern face_graph;
+        GridTools::get_face_connectivity_of_cells(mesh, face_graph);
+        SparsityPattern graph;
+        graph.copy_from(face_graph);
+        SparsityTools::partition(graph,
+                                 n_parts,
+                                 cell_owners,
+                                 SparsityTools::Partitioner::metis);
+      }
+
+    // Owners: the part of the first cell that carries the unknown.
+    const auto                           n_unknowns = discretization.n_dofs();
+    constexpr unsigned int               none = numbers::invalid_unsigned_int;
+    std::vector<types::global_dof_index> indices;
+    unknown_owners.assign(n_unknowns, none);
+    for (const auto &cell :
+         discretization.dof_handler().active_cell_iterators())
+      {
+        discretization.get_dof_indices(cell, indices);
+        for (const auto i : indices)
+          if (unknown_owners[i] == none)
+            unknown_owners[i] = cell_owners[cell->active_cell_index()];
+      }
+    AssertThrow(std::find(unknown_owners.begin(), unknown_owners.end(), none) ==
+                  unknown_owners.end(),
+                ExcMessage("an unknown of the discretisation '" +
+                           discretization.name() + "' is on no cell"));
+
+    owned.assign(n_parts, IndexSet(n_unknowns));
+    relevant.assign(n_parts, IndexSet(n_unknowns));
+    {
+      std::vector<std::vector<types::global_dof_index>> owned_lists(n_parts);
+      for (types::global_dof_index i = 0; i < n_unknowns; ++i)
+        owned_lists[unknown_owners[i]].push_back(i);
+      for (unsigned int p = 0; p < n_parts; ++p)
+        owned[p].add_indices(owned_lists[p].begin(), owned_lists[p].end());
+    }
+    // Relevant: every unknown of a cell that carries an owned one.
+    std::vector<std::vector<types::global_dof_index>> relevant_lists(n_parts);
+    std::vector<unsigned int>                         parts_of_cell;
+    assembly_cells.assign(n_parts, {});
+    for (const auto &cell :
+         discretization.dof_handler().active_cell_iterators())
+      {
+        discretization.get_dof_indices(cell, indices);
+        parts_of_cell.clear();
+        for (const auto i : indices)
+          parts_of_cell.push_back(unknown_owners[i]);
+        std::sort(parts_of_cell.begin(), parts_of_cell.end());
+        parts_of_cell.erase(std::unique(parts_of_cell.begin(),
+                                        parts_of_cell.end()),
+                            parts_of_cell.end());
+        for (const unsigned int p : parts_of_cell)
+          {
+            relevant_lists[p].insert(relevant_lists[p].end(),
+                                     indices.begin(),
+                                     indices.end());
+            assembly_cells[p].push_back(cell->active_cell_index());
+          }
+      }
+    for (unsigned int p = 0; p < n_parts; ++p)
+      {
+        auto &list = relevant_lists[p];
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        relevant[p].add_indices(list.begin(), list.end());
+        relevant[p].add_indices(owned[p]);
+        relevant[p].compress();
+        owned[p].compress();
+      }
+  }
+
+  template <int dim>
+  unsigned int
+  UnknownPartition<dim>::n_parts() const
+  {
+    return owned.size();
+  }
+
+  template <int dim>
+  unsigned int
+  UnknownPartition<dim>::cell_owner(const unsigned int active_cell_index) const
+  {
+    AssertIndexRange(active_cell_index, cell_owners.size());
+    return cell_owners[active_cell_index];
+  }
+
+  template <int dim>
+  unsigned int
+  UnknownPartition<dim>::owner(const types::global_dof_index unknown) const
+  {
+    AssertIndexRange(unknown, unknown_owners.size());
+    return unknown_owners[unknown];
+  }
+
+  template <int dim>
+  const IndexSet &
+  UnknownPartition<dim>::owned_unknowns(const unsigned int part) const
+  {
+    AssertIndexRange(part, owned.size());
+    return owned[part];
+  }
+
+  template <int dim>
+  const IndexSet &
+  UnknownPartition<dim>::relevant_unknowns(const unsigned int part) const
+  {
+    AssertIndexRange(part, relevant.size());
+    return relevant[part];
+  }
+
+  template <int dim>
+  bool
+  UnknownPartition<dim>::is_assembly_cell(const unsigned int active_cell_index,
+                                          const unsigned int part) const
+  {
+    AssertIndexRange(part, assembly_cells.size());
+    return std::binary_search(assembly_cells[part].begin(),
+                              assembly_cells[part].end(),
+                              active_cell_index);
+  }
+
+  template class UnknownPartition<2>;
+} // namespace isoimpact
