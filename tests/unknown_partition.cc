@@ -21,9 +21,14 @@
 //    distributed vector equals the serial K u on the owned rows to 1e-14
 //    relative to max |K u| (the ghost values come through Trilinos' import;
 //    the sums within a row may run in another order).
+// 3. The part-major numbering gives each rank one contiguous range of
+//    unknowns, in the ranks' order, and a LinearAlgebra::distributed::Vector
+//    over it (owned range, relevant set renumbered) receives the value of
+//    every relevant unknown through update_ghost_values() exactly.
 #include <deal.II/base/mpi.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 #include <deal.II/lac/trilinos_vector.h>
@@ -198,6 +203,46 @@ namespace
                     0.);
     CHECK_CLOSE_ABS(entry_difference, 0., 0.);
     CHECK_CLOSE_ABS(difference, 0., 1e-14);
+
+    // The part-major numbering: each rank's unknowns one contiguous range,
+    // in the ranks' order; a distributed vector over it receives every
+    // relevant value through the ghost exchange, exactly.
+    const auto numbering   = partition.part_major_numbering();
+    const auto owned_range = UnknownPartition<2>::renumber(owned, numbering);
+    const auto relevant_range =
+      UnknownPartition<2>::renumber(partition.relevant_unknowns(rank),
+                                    numbering);
+    types::global_dof_index first = 0;
+    for (unsigned int r = 0; r < rank; ++r)
+      first += partition.owned_unknowns(r).n_elements();
+    IndexSet expected_range(discretization.n_dofs());
+    expected_range.add_range(first, first + owned.n_elements());
+    LinearAlgebra::distributed::Vector<double> ghosted(owned_range,
+                                                       relevant_range,
+                                                       communicator);
+    for (const auto i : owned)
+      ghosted(numbering[i]) = u(i);
+    ghosted.update_ghost_values();
+    double ghost_difference = 0.;
+    for (const auto i : partition.relevant_unknowns(rank))
+      ghost_difference =
+        std::max(ghost_difference, std::abs(ghosted(numbering[i]) - u(i)));
+    ghost_difference = Utilities::MPI::max(ghost_difference, communicator);
+    std::cout << "    part-major numbering: rank " << rank << " owns [" << first
+              << ", " << first + owned.n_elements() << "), "
+              << relevant_range.n_elements() - owned_range.n_elements()
+              << " ghosts, ghost values differ by " << ghost_difference
+              << std::endl;
+    CHECK_TRUE(owned_range == expected_range);
+    CHECK_CLOSE_ABS(Utilities::MPI::sum(double(relevant_range.n_elements() -
+                                               owned_range.n_elements()),
+                                        communicator),
+                    Utilities::MPI::sum(
+                      double(partition.relevant_unknowns(rank).n_elements() -
+                             owned.n_elements()),
+                      communicator),
+                    0.);
+    CHECK_CLOSE_ABS(ghost_difference, 0., 0.);
   }
 } // namespace
 

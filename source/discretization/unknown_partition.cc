@@ -153,5 +153,35 @@ namespace isoimpact
                               active_cell_index);
   }
 
+  template <int dim>
+  std::vector<types::global_dof_index>
+  UnknownPartition<dim>::part_major_numbering() const
+  {
+    std::vector<types::global_dof_index> numbering(unknown_owners.size());
+    types::global_dof_index              next = 0;
+    for (const auto &part : owned)
+      for (const auto i : part)
+        numbering[i] = next++;
+    return numbering;
+  }
+
+  template <int dim>
+  IndexSet
+  UnknownPartition<dim>::renumber(
+    const IndexSet                             &unknowns,
+    const std::vector<types::global_dof_index> &numbering)
+  {
+    AssertDimension(unknowns.size(), numbering.size());
+    std::vector<types::global_dof_index> renumbered;
+    renumbered.reserve(unknowns.n_elements());
+    for (const auto i : unknowns)
+      renumbered.push_back(numbering[i]);
+    std::sort(renumbered.begin(), renumbered.end());
+    IndexSet result(unknowns.size());
+    result.add_indices(renumbered.begin(), renumbered.end());
+    result.compress();
+    return result;
+  }
+
   template class UnknownPartition<2>;
 } // namespace isoimpact

@@ -52,6 +52,20 @@ namespace isoimpact
     is_assembly_cell(const unsigned int active_cell_index,
                      const unsigned int part) const;
 
+    /**
+     * A numbering in which each part's unknowns form one contiguous range,
+     * the parts in order and each part's unknowns in their present order:
+     * entry i is the new number of unknown i. deal.II's distributed vectors
+     * need contiguous owned ranges; the serial program keeps its numbering.
+     */
+    std::vector<dealii::types::global_dof_index>
+    part_major_numbering() const;
+
+    // An index set of the unknowns, renumbered by `numbering`.
+    static dealii::IndexSet
+    renumber(const dealii::IndexSet                             &unknowns,
+             const std::vector<dealii::types::global_dof_index> &numbering);
+
   private:
     std::vector<unsigned int>              cell_owners;
     std::vector<unsigned int>              unknown_owners;
