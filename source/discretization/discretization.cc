@@ -39,6 +39,36 @@ namespace isoimpact
 
   template <int dim>
   void
+  Discretization<dim>::renumber_unknowns(
+    const std::vector<types::global_dof_index> &new_numbers)
+  {
+    const types::global_dof_index n = n_dofs();
+    AssertThrow(new_numbers.size() == n,
+                ExcMessage(
+                  "renumber_unknowns: " + std::to_string(new_numbers.size()) +
+                  " new numbers for " + std::to_string(n) + " unknowns"));
+    std::vector<bool> taken(n, false);
+    for (const auto i : new_numbers)
+      {
+        AssertThrow(i < n && !taken[i],
+                    ExcMessage("renumber_unknowns: the new numbers are not "
+                               "a permutation of 0.." +
+                               std::to_string(n - 1)));
+        taken[i] = true;
+      }
+    std::vector<Point<dim>>    positions(n);
+    std::vector<unsigned char> components(n);
+    for (types::global_dof_index i = 0; i < n; ++i)
+      {
+        positions[new_numbers[i]]  = unknown_positions[i];
+        components[new_numbers[i]] = unknown_components[i];
+      }
+    renumber_own_indices(new_numbers);
+    set_unknowns(std::move(positions), std::move(components));
+  }
+
+  template <int dim>
+  void
   Discretization<dim>::cache_mapping(const unsigned int degree)
   {
     auto cache = std::make_unique<MappingQCache<dim>>(degree);

@@ -141,6 +141,14 @@ namespace isoimpact
 
   template <int dim>
   void
+  DiscretizationFEA<dim>::renumber_own_indices(
+    const std::vector<types::global_dof_index> &new_numbers)
+  {
+    this->dofs.renumber_dofs(new_numbers);
+  }
+
+  template <int dim>
+  void
   DiscretizationFEA<dim>::make_constraints(
     AffineConstraints<double> &constraints) const
   {

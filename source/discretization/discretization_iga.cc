@@ -305,9 +305,9 @@ namespace isoimpact
       {
         const auto component_and_function =
           this->fe().system_to_component_index(i);
-        indices[i] = types::global_dof_index(dim) *
-                       control_points[component_and_function.second] +
-                     component_and_function.first;
+        indices[i] = unknown(types::global_dof_index(dim) *
+                               control_points[component_and_function.second] +
+                             component_and_function.first);
       }
   }
 
@@ -390,9 +390,9 @@ namespace isoimpact
           for (const unsigned int a : patches().patch(p).side_control_points(f))
             {
               const types::global_dof_index dof =
-                types::global_dof_index(dim) *
-                  patches().global_control_point(p, a) +
-                component;
+                unknown(types::global_dof_index(dim) *
+                          patches().global_control_point(p, a) +
+                        component);
               if (!constraints.is_constrained(dof))
                 constraints.add_line(dof);
             }
@@ -437,9 +437,9 @@ namespace isoimpact
                       patch.control_point_index(multi_index);
                     for (unsigned int c = 0; c < dim; ++c)
                       segment.node_dofs[l][c] =
-                        types::global_dof_index(dim) *
-                          patches().global_control_point(p, a) +
-                        c;
+                        unknown(types::global_dof_index(dim) *
+                                  patches().global_control_point(p, a) +
+                                c);
                     segment.node_positions[l] = points[a];
                     segment.node_weights[l]   = weights[a];
                   }
@@ -464,6 +464,18 @@ namespace isoimpact
               }
           }
     return segments;
+  }
+
+  template <int dim>
+  void
+  DiscretizationIGA<dim>::renumber_own_indices(
+    const std::vector<types::global_dof_index> &new_numbers)
+  {
+    if (renumbered.empty())
+      renumbered = new_numbers;
+    else
+      for (auto &number : renumbered)
+        number = new_numbers[number];
   }
 
   template class DiscretizationIGA<2>;

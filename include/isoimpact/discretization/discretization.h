@@ -191,6 +191,17 @@ namespace isoimpact
     virtual HigherOrderCell
     higher_order_cell(const cell_iterator &cell) const;
 
+    /**
+     * Renumbers the unknowns: unknown i becomes new_numbers[i] (a
+     * permutation) in every index the discretisation gives from then on
+     * (cells, constraints, boundary segments, positions, output). For
+     * several MPI ranks (UnknownPartition::part_major_numbering()); the
+     * serial program keeps the discretisation's own numbering.
+     */
+    void
+    renumber_unknowns(
+      const std::vector<dealii::types::global_dof_index> &new_numbers);
+
     // Turns a vector of unknowns into a vector on the DoFHandler, for
     // DataOut and for evaluation with FEValues.
     void
@@ -208,6 +219,12 @@ namespace isoimpact
     virtual std::vector<BoundarySegment<dim>>
     unmarked_boundary_segments(
       const dealii::types::boundary_id boundary_id) const = 0;
+
+    // The derived class's part of renumber_unknowns() (positions and
+    // components are permuted by the base class).
+    virtual void
+    renumber_own_indices(
+      const std::vector<dealii::types::global_dof_index> &new_numbers) = 0;
 
     // Stores the reference position and the component of every unknown;
     // their number is n_dofs(). Called once the unknowns are numbered.

@@ -44,6 +44,11 @@ namespace isoimpact
       dealii::AffineConstraints<double> &constraints) const override;
 
   private:
+    // Renumbers the DoFHandler, whose numbering is that of the unknowns.
+    void
+    renumber_own_indices(
+      const std::vector<dealii::types::global_dof_index> &new_numbers) override;
+
     // One segment per boundary face: its support points as nodes, the
     // Bernstein coefficients fitted to the face's shape functions.
     std::vector<BoundarySegment<dim>>

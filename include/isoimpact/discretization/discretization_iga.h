@@ -64,7 +64,8 @@ namespace isoimpact
     std::string
     name() const override;
 
-    // Interleaved: dim * (global control point) + component.
+    // Interleaved: dim * (global control point) + component (until
+    // renumber_unknowns()).
     void
     get_dof_indices(
       const cell_iterator                          &cell,
@@ -118,7 +119,20 @@ namespace isoimpact
     void
     make_mesh();
 
-    mutable std::vector<HigherOrderCell> bezier_cells;
+    // The unknown of dim * (global control point) + component: the same
+    // until renumber_unknowns().
+    dealii::types::global_dof_index
+    unknown(const dealii::types::global_dof_index control_point_component) const
+    {
+      return renumbered.empty() ? control_point_component :
+                                  renumbered[control_point_component];
+    }
+    void
+    renumber_own_indices(
+      const std::vector<dealii::types::global_dof_index> &new_numbers) override;
+
+    std::vector<dealii::types::global_dof_index> renumbered;
+    mutable std::vector<HigherOrderCell>         bezier_cells;
 
     // Shared with FE_NURBS and MappingNURBS.
     std::shared_ptr<const nurbs::MultiPatch<dim>>                shared_patches;
