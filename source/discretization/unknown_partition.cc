@@ -96,8 +96,8 @@ namespace isoimpact
         auto &list = relevant_lists[p];
         std::sort(list.begin(), list.end());
         list.erase(std::unique(list.begin(), list.end()), list.end());
+        // Each owned unknown is on its first cell, so it is in the list.
         relevant[p].add_indices(list.begin(), list.end());
-        relevant[p].add_indices(owned[p]);
         relevant[p].compress();
         owned[p].compress();
       }
