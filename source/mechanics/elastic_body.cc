@@ -251,10 +251,17 @@ namespace isoimpact
         half_step_velocity.add(dt, acceleration);
         return;
       }
-    if (form_whole_step_state)
-      fused_step<true>(f, half_step_velocity, dt);
+    if (row_exchange.is_distributed())
+      {
+        if (form_whole_step_state)
+          fused_step<true, true>(f, half_step_velocity, dt);
+        else
+          fused_step<false, true>(f, half_step_velocity, dt);
+      }
+    else if (form_whole_step_state)
+      fused_step<true, false>(f, half_step_velocity, dt);
     else
-      fused_step<false>(f, half_step_velocity, dt);
+      fused_step<false, false>(f, half_step_velocity, dt);
   }
 
   template <int dim>
@@ -265,7 +272,7 @@ namespace isoimpact
   }
 
   template <int dim>
-  template <bool form_whole_step_state>
+  template <bool form_whole_step_state, bool owned_rows_only>
   void
   ElasticBody<dim>::fused_step(Vector<double> &f,
                                Vector<double> &half_step_velocity,
@@ -283,15 +290,20 @@ namespace isoimpact
     const auto            *columns  = CompressedRows::column_numbers(pattern);
     // The entries in the pattern's order: the diagonal of row 0 is the
     // first (square matrix, rowstart[0] = 0).
-    const double     *values = &stiffness.diag_element(0);
-    const double     *u      = displacement.data();
-    double           *force  = f.data();
-    const double     *w      = step_inverse_mass.data();
-    const double     *mass   = lumped_mass.data();
-    double           *a      = acceleration.data();
-    double           *v      = velocity.data();
-    double           *vh     = half_step_velocity.data();
-    const std::size_t n      = displacement.size();
+    const double *values = &stiffness.diag_element(0);
+    const double *u      = displacement.data();
+    double       *force  = f.data();
+    const double *w      = step_inverse_mass.data();
+    const double *mass   = lumped_mass.data();
+    double       *a      = acceleration.data();
+    double       *v      = velocity.data();
+    double       *vh     = half_step_velocity.data();
+    // On several ranks the rows of the owned unknowns (in ascending order).
+    const types::global_dof_index *rows =
+      owned_rows_only ? row_exchange.owned_unknowns().data() : nullptr;
+    const std::size_t n = owned_rows_only ?
+                            row_exchange.owned_unknowns().size() :
+                            displacement.size();
     stiffness_times_u.reinit(0); // not computed: see above
 
     constexpr std::size_t block_size = 4096;
@@ -305,8 +317,11 @@ namespace isoimpact
           {
             const std::size_t end     = std::min(n, (block + 1) * block_size);
             double            kinetic = 0., strain = 0.;
-            for (std::size_t i = block * block_size; i < end; ++i)
+            for (std::size_t k = block * block_size; k < end; ++k)
               {
+                std::size_t i = k;
+                if constexpr (owned_rows_only)
+                  i = rows[k];
                 double ku = 0.;
                 for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
                   ku += values[j] * u[columns[j]];
@@ -336,12 +351,24 @@ namespace isoimpact
       }
     for (const auto &line : body_constraints.get_lines())
       {
-        const std::size_t i  = line.index;
-        double            ku = 0.;
+        const std::size_t i = line.index;
+        if (owned_rows_only && !row_exchange.is_owned(i))
+          continue;
+        double ku = 0.;
         for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
           ku += values[j] * u[columns[j]];
         energies.kinetic -= vh[i] * mass[i] * vh[i];
         energies.strain -= u[i] * ku;
+      }
+    if constexpr (owned_rows_only)
+      {
+        // The contact forces on the ghosts are their owners' to consume.
+        for (const auto i : row_exchange.ghost_unknowns())
+          force[i] = 0.;
+        std::vector<double> sums = {energies.kinetic, energies.strain};
+        row_exchange.sum(sums);
+        energies.kinetic = sums[0];
+        energies.strain  = sums[1];
       }
     energies.kinetic *= 0.5;
     energies.strain *= 0.5;
@@ -367,6 +394,73 @@ namespace isoimpact
           }
       },
       4096);
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::distribute_rows(
+    const MPI_Comm                              communicator,
+    const std::vector<types::global_dof_index> &shared)
+  {
+    if (!Utilities::MPI::job_supports_mpi())
+      return;
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+    if (n_ranks == 1)
+      return;
+    AssertThrow(fused_lumped_step,
+                ExcMessage(body_name +
+                           " cannot run on several MPI ranks: that needs a "
+                           "lumped mass (row-sum or HRZ) and no hanging-node "
+                           "constraints (no local refinement)"));
+    AssertThrow(massless.empty() && penalty_masses.empty(),
+                ExcMessage(body_name + " cannot run on several MPI ranks "
+                                       "with mass redistribution or penalty "
+                                       "masses"));
+    const UnknownPartition<dim> partition(*discretization_ptr, n_ranks);
+    row_exchange = UnknownExchange(partition, communicator, shared);
+  }
+
+  template <int dim>
+  const UnknownExchange &
+  ElasticBody<dim>::exchange() const
+  {
+    return row_exchange;
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::advance_displacement(
+    const Vector<double> &half_step_velocity,
+    const double          dt)
+  {
+    if (!row_exchange.is_distributed())
+      {
+        displacement.add(dt, half_step_velocity);
+        return;
+      }
+    // The same operation per entry as Vector::add: the same bits.
+    double       *u = displacement.data();
+    const double *v = half_step_velocity.data();
+    for (const auto &[first, end] : row_exchange.owned_ranges())
+      for (types::global_dof_index i = first; i < end; ++i)
+        u[i] += dt * v[i];
+    row_exchange.update_ghost_values(displacement);
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::update_ghost_values(Vector<double> &vector) const
+  {
+    row_exchange.update_ghost_values(vector);
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::gather_state()
+  {
+    row_exchange.gather(displacement);
+    row_exchange.gather(velocity);
+    row_exchange.gather(acceleration);
   }
 
   template <int dim>
@@ -556,6 +650,9 @@ namespace isoimpact
     AssertThrow(scheme != MassScheme::consistent,
                 ExcMessage("penalty masses (bipenalty) need a lumped mass; " +
                            body_name + " has the consistent mass"));
+    AssertThrow(!row_exchange.is_distributed(),
+                ExcMessage("penalty masses (bipenalty) of " + body_name +
+                           " are not supported on several MPI ranks"));
     if (penalty_scratch.size() != n_dofs())
       {
         penalty_scratch.reinit(n_dofs());
@@ -640,6 +737,9 @@ namespace isoimpact
     AssertThrow(massless.empty(),
                 ExcMessage("the mass of " + body_name +
                            " is redistributed already"));
+    AssertThrow(!row_exchange.is_distributed(),
+                ExcMessage("mass redistribution of " + body_name +
+                           " is not supported on several MPI ranks"));
     const MassRedistribution redistribution =
       redistribute_lumped_mass(*discretization_ptr,
                                lumped_mass,

@@ -568,6 +568,20 @@ namespace isoimpact
 
     if (parameters.approach_law != "none")
       scene.reference = make_reference(parameters);
+
+    // Several MPI ranks: each computes the rows of its own unknowns and
+    // reads the contact surfaces whole (their unknowns are every rank's).
+    if (n_world_ranks() > 1)
+      for (unsigned int b = 0; b < scene.bodies.size(); ++b)
+        {
+          std::vector<types::global_dof_index> shared;
+          for (const auto &segment : surfaces[b])
+            for (const auto &node : segment.node_dofs)
+              shared.insert(shared.end(), node.begin(), node.end());
+          std::sort(shared.begin(), shared.end());
+          shared.erase(std::unique(shared.begin(), shared.end()), shared.end());
+          scene.bodies[b]->distribute_rows(MPI_COMM_WORLD, shared);
+        }
     return scene;
   }
 
@@ -672,14 +686,43 @@ namespace isoimpact
 
 
   void
-  check_scene(const Parameters &parameters, const std::string &parameter_file)
+  check_scene(const Parameters  &parameters,
+              const std::string &parameter_file,
+              const unsigned int n_ranks)
   {
+    // Several MPI ranks: what the distributed step supports so far
+    // (doc/parallel.md).
+    if (n_ranks > 1)
+      {
+        const std::string way_out =
+          " is not supported on several MPI ranks yet (started as " +
+          std::to_string(n_ranks) +
+          " ranks); run it on one process (without mpirun, threads with "
+          "DEAL_II_NUM_THREADS)";
+        if (parameters.mass_scheme == MassScheme::consistent)
+          refuse(parameter_file,
+                 "'Mass matrix/Scheme' = consistent" + way_out +
+                   ", or choose row-sum or HRZ");
+        if (parameters.bipenalty)
+          refuse(parameter_file, "'Contact/Bipenalty' = true" + way_out);
+        if (parameters.mass_redistribution)
+          refuse(parameter_file,
+                 "'Contact/Mass redistribution' = true" + way_out);
+        for (const auto &body : parameters.bodies)
+          if (body.geometry.local_refinements > 0)
+            refuse(parameter_file,
+                   "'Discretization/Local refinements' = " +
+                     std::to_string(body.geometry.local_refinements) + way_out +
+                     ", or set it to 0");
+      }
     check_start_positions(parameters, parameter_file);
     if (parameters.approach_law != "none")
       check_reference_scene(parameters, parameter_file);
 
-    // Memory, before anything is allocated.
-    const auto [bytes, cells] = estimated_memory_and_cells(parameters);
+    // Memory, before anything is allocated. Every rank holds the mesh,
+    // the matrices and the state.
+    auto [bytes, cells] = estimated_memory_and_cells(parameters);
+    bytes *= n_ranks;
     std::ifstream meminfo("/proc/meminfo");
     std::string   key;
     double        available_kB = 0.;

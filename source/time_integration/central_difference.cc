@@ -38,7 +38,10 @@ namespace isoimpact
       }
     body_penalty_masses.resize(bodies.size());
     for (const auto &interaction : contacts)
-      bipenalty |= interaction.contact->bipenalty_mass() > 0.;
+      {
+        bipenalty |= interaction.contact->bipenalty_mass() > 0.;
+        damped_contact |= interaction.contact->damping_ratio() > 0.;
+      }
     for (const auto &interaction : contacts)
       {
         std::vector<unsigned int> involved = {interaction.first_body};
@@ -168,7 +171,14 @@ namespace isoimpact
   {
     kinetic_energy_of_step = std::numeric_limits<double>::quiet_NaN();
     for (unsigned int b = 0; b < bodies.size(); ++b)
-      bodies[b]->displacement.add(dt, half_step_velocity[b]);
+      {
+        // On several ranks: the owned entries are right, the ghosts come
+        // from their owners (no-ops on one process). The contact damping
+        // reads the half-step velocity of the surfaces.
+        bodies[b]->advance_displacement(half_step_velocity[b], dt);
+        if (damped_contact)
+          bodies[b]->update_ghost_values(half_step_velocity[b]);
+      }
     compute_accelerations(record_contact_points, true, form_whole_step_state);
     for (const auto &result : results)
       contact_damping_work += dt * result.damping_power;

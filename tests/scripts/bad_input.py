@@ -278,30 +278,28 @@ if os.path.exists("/dev/full"):
     check_true("--print-parameters > /dev/full: exit 1, no signal", run.returncode == 1)
     check_true("--print-parameters > /dev/full: says the write failed",
                "writing the default parameters" in run.stderr and "failed" in run.stderr)
-# Several MPI ranks (issue 13 is not done): refused before any output, with
-# the number of ranks named. Through the launchers' environment variables,
-# and through mpirun itself where it is installed.
-good = os.path.join(workdir, "good_for_mpi.prm")
-edit_prm(good_prm, good, {"Output/Directory": "mpi_output"})
-for variable in ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE"):
-    shutil.rmtree(os.path.join(workdir, "mpi_output"), ignore_errors=True)
-    run = subprocess.run([program, good], cwd=workdir, capture_output=True, text=True,
-                         env={**os.environ, variable: "2"})
-    print(f"--- {variable}=2: exit {run.returncode}\n{run.stderr.strip()}")
-    check_true(f"{variable}=2: exit 2", run.returncode == 2)
-    check_true(f"{variable}=2: message names the file and the 2 ranks",
-               good in run.stderr and "2 MPI ranks" in run.stderr)
-    check_true(f"{variable}=2: no output directory",
-               not os.path.exists(os.path.join(workdir, "mpi_output")))
+# Several MPI ranks: a scene the distributed step does not support yet
+# (consistent mass) is refused before any output, by every rank alike, with
+# the parameter, its value and the number of ranks named (exit 2). The runs
+# that work on 2 ranks are checked by mpi_history.py.
 mpirun = shutil.which("mpirun")
+check_true("mpirun is installed (scripts/setup.sh installs openmpi-bin)", mpirun is not None)
 if mpirun:
+    consistent = os.path.join(workdir, "consistent_for_mpi.prm")
+    edit_prm(good_prm, consistent, {"Output/Directory": "mpi_output",
+                                    "Mass matrix/Scheme": "consistent"})
     shutil.rmtree(os.path.join(workdir, "mpi_output"), ignore_errors=True)
-    run = subprocess.run([mpirun, "--allow-run-as-root", "--oversubscribe", "-np", "2", program, good],
-                         cwd=workdir, capture_output=True, text=True)
-    print(f"--- mpirun -np 2: exit {run.returncode}\n{run.stderr.strip()[:400]}")
-    check_true("mpirun -np 2: non-zero exit", run.returncode != 0)
-    check_true("mpirun -np 2: message names the 2 ranks", "2 MPI ranks" in run.stderr)
-    check_true("mpirun -np 2: no output directory",
+    run = subprocess.run([mpirun, "--allow-run-as-root", "--oversubscribe", "-np", "2", program,
+                          consistent], cwd=workdir, capture_output=True, text=True)
+    print(f"--- mpirun -np 2, consistent mass: exit {run.returncode}\n{run.stderr.strip()[:600]}")
+    check_true("mpirun -np 2, consistent mass: exit 2", run.returncode == 2)
+    check_true("mpirun -np 2, consistent mass: message names the file, the parameter, "
+               "its value and the 2 ranks",
+               consistent in run.stderr and "'Mass matrix/Scheme' = consistent" in run.stderr
+               and "2 ranks" in run.stderr)
+    check_true("mpirun -np 2, consistent mass: said once (by rank 0)",
+               run.stderr.count("'Mass matrix/Scheme' = consistent") == 1)
+    check_true("mpirun -np 2, consistent mass: no output directory",
                not os.path.exists(os.path.join(workdir, "mpi_output")))
 run = subprocess.run([program, "--help"], capture_output=True, text=True)
 check_true("--help exits with 0 and shows usage", run.returncode == 0 and "usage" in run.stdout)

@@ -5,6 +5,7 @@
 
 #include <deal.II/lac/precondition.h>
 
+#include <isoimpact/discretization/unknown_exchange.h>
 #include <isoimpact/mechanics/assembly.h>
 #include <isoimpact/mechanics/mass_redistribution.h>
 #include <isoimpact/mechanics/mass_solver.h>
@@ -189,6 +190,36 @@ namespace isoimpact
     const dealii::Vector<double> &
     lumped_masses_before_redistribution() const;
 
+    /**
+     * Issue 13: the step on the ranks of `communicator` (doc/parallel.md).
+     * Every rank keeps the whole state, matrices and masses; the step
+     * (compute_acceleration_and_velocities) computes the rows of the
+     * unknowns the rank owns, and the displacement must then receive its
+     * ghosts (update_ghost_values) before the next step. `shared` are the
+     * unknowns every rank reads (the contact surfaces'). The energies of
+     * the step are summed over the ranks. Needs the fused lumped step
+     * (lumped mass, constraints u_i = 0 alone) and no mass redistribution
+     * or penalty masses; throws otherwise. One rank: nothing changes.
+     */
+    void
+    distribute_rows(const MPI_Comm communicator,
+                    const std::vector<dealii::types::global_dof_index> &shared);
+    const UnknownExchange &
+    exchange() const;
+    // u += dt v: on one process the whole displacement; on several ranks
+    // the owned entries, and the ghosts then from their owners.
+    void
+    advance_displacement(const dealii::Vector<double> &half_step_velocity,
+                         const double                  dt);
+    // The ghost entries of a state vector from their owners (nothing on one
+    // process).
+    void
+    update_ghost_values(dealii::Vector<double> &vector) const;
+    // Displacement, velocity and acceleration complete on every rank (for
+    // the output; nothing on one process).
+    void
+    gather_state();
+
     // The state: displacement, velocity and acceleration at the current
     // time, in the unknowns of the discretisation.
     dealii::Vector<double> displacement;
@@ -207,7 +238,8 @@ namespace isoimpact
                      dealii::Vector<double>       &a) const;
     // compute_acceleration_and_velocities() with lumped mass: the
     // product K u and the pass of lumped_step_pass() fused row by row.
-    template <bool form_whole_step_state>
+    // owned_rows_only: the rows of the unknowns this rank owns.
+    template <bool form_whole_step_state, bool owned_rows_only>
     void
     fused_step(dealii::Vector<double> &f,
                dealii::Vector<double> &half_step_velocity,
@@ -250,6 +282,8 @@ namespace isoimpact
                            penalty_masses;
     dealii::Vector<double> penalty_scratch, previous_penalty_scratch;
     bool                   penalty_momentum_switching = true;
+    // The rows this rank computes and its ghosts (serial: all, none).
+    UnknownExchange row_exchange;
   };
 } // namespace isoimpact
 

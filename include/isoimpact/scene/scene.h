@@ -58,10 +58,15 @@ namespace isoimpact
    *   reference can describe the impact (closing speed below its limit);
    * - the estimated memory of the meshes and matrices fits in the available
    *   memory (MemAvailable of /proc/meminfo);
-   * - a given time step gives at most max_time_steps steps.
+   * - a given time step gives at most max_time_steps steps;
+   * - on n_ranks > 1 MPI ranks, the scene uses only what the distributed
+   *   step supports (lumped mass, no bipenalty, mass redistribution or
+   *   local refinement).
    */
   void
-  check_scene(const Parameters &parameters, const std::string &parameter_file);
+  check_scene(const Parameters  &parameters,
+              const std::string &parameter_file,
+              const unsigned int n_ranks = 1);
 
   // The estimated peak memory of a run, bytes, and its cells (all bodies).
   std::pair<double, double>

@@ -150,6 +150,8 @@ namespace isoimpact
     // per body the penalty masses of the last evaluation.
     double bipenalty_switching_work = 0.;
     bool   bipenalty                = false;
+    // A contact model with damping (it reads the half-step velocities).
+    bool damped_contact = false;
     std::vector<std::vector<std::pair<dealii::types::global_dof_index, double>>>
                                     body_penalty_masses;
     std::vector<ContactResult<dim>> results;
