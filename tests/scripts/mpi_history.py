@@ -5,8 +5,9 @@ duration and the force trend peak to 1e-4, the energy balance and the bodies'
 masses equal. The raw penalty force chatters, so later steps may drift apart
 by the growth of round-off; the runs here happen to stay much closer.
 
-Usage: mpi_history.py PROGRAM MPIRUN WORKDIR PRM [PRM ...] (History interval
-= 1 in each file)."""
+Usage: mpi_history.py PROGRAM MPIRUN WORKDIR CASE [CASE ...], a CASE being
+a parameter file, optionally followed by edits:
+FILE.prm[@Section/Key=value[@...]] (History interval = 1 is set)."""
 import json
 import os
 import re
@@ -26,11 +27,11 @@ program, mpirun, workdir = sys.argv[1], sys.argv[2], sys.argv[3]
 os.makedirs(workdir, exist_ok=True)
 
 
-def run(prm, name, ranks):
+def run(prm, edits, name, ranks):
     out = os.path.join(workdir, name)
     shutil.rmtree(out, ignore_errors=True)
     edited = edit_prm(prm, os.path.join(workdir, name + ".prm"),
-                      {"Output/Directory": name, "Output/History interval": "1"})
+                      {**edits, "Output/Directory": name, "Output/History interval": "1"})
     command = [program, edited]
     if ranks > 1:
         command = [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)] + command
@@ -43,10 +44,13 @@ def run(prm, name, ranks):
             masses, result.stdout)
 
 
-for prm in sys.argv[4:]:
-    label = os.path.splitext(os.path.basename(prm))[0]
-    serial, serial_summary, serial_masses, _ = run(prm, label + "_1_rank", 1)
-    parallel, parallel_summary, parallel_masses, stdout = run(prm, label + "_2_ranks", 2)
+for case in sys.argv[4:]:
+    prm, *changes = case.split("@")
+    edits = dict(change.split("=", 1) for change in changes)
+    label = os.path.splitext(os.path.basename(prm))[0] + "".join(
+        "_" + re.sub(r"[^A-Za-z0-9]+", "_", change) for change in changes)
+    serial, serial_summary, serial_masses, _ = run(prm, edits, label + "_1_rank", 1)
+    parallel, parallel_summary, parallel_masses, stdout = run(prm, edits, label + "_2_ranks", 2)
     check_true(f"{label}: the 2-rank run says it runs on 2 ranks", "2 MPI ranks" in stdout)
     check_true(f"{label}: the progress is printed once (rank 0)",
                stdout.count("max energy error") == 1)

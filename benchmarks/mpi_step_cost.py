@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""Time per step of the program on 1 rank x 1 thread, 1 rank x 2 threads and
+2 MPI ranks x 1 thread (issue 13), FEA Q9 and IGA p2 HRZ at about 1e5 and
+1e6 unknowns (the Hertz benchmark, prm/hertz_fea_hrz.prm and
+prm/hertz_iga_hrz.prm, at Global refinements 5 and 7, resp. 6 and 8; the
+cylinders touch from t = 0, so contact is on). The step is the program's:
+time_loop of summary.json over its steps (no ParaView output, history every
+100 steps). Each configuration runs `--repeats` times, interleaved with the
+others; the table gives the median ms per step, the speed-ups against
+1 rank x 1 thread, and the peak resident memory per process (/usr/bin/time).
+
+usage: python3 benchmarks/mpi_step_cost.py [--quick] [--repeats 3] [--build build]
+  --quick: the 1e5 levels only."""
+import argparse
+import json
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+
+root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(root, "tests", "scripts"))
+from testing import edit_prm  # noqa: E402
+
+# File and levels (about 1e5 and 1e6 unknowns).
+CASES = {"FEA Q9": ("prm/hertz_fea_hrz.prm", [5, 7]),
+         "IGA p2": ("prm/hertz_iga_hrz.prm", [6, 8])}
+CONFIGS = [("1 rank x 1 thread", 1, 1), ("1 rank x 2 threads", 1, 2),
+           ("2 ranks x 1 thread", 2, 1)]
+
+
+def run(program, prm, work, ranks, threads):
+    out = os.path.join(work, "out")
+    shutil.rmtree(out, ignore_errors=True)
+    command = ["/usr/bin/time", "-f", "PEAK_RSS_KB %M", program, prm]
+    env = {**os.environ, "DEAL_II_NUM_THREADS": str(threads)}
+    if ranks > 1:
+        command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks),
+                   "-x", "DEAL_II_NUM_THREADS"] + command
+    result = subprocess.run(command, cwd=work, env=env, capture_output=True, text=True)
+    if result.returncode != 0:
+        sys.exit(f"{' '.join(command)} failed:\n{result.stdout[-2000:]}\n{result.stderr[-2000:]}")
+    summary = json.load(open(os.path.join(out, "summary.json")))
+    rss = [int(v) * 1024 for v in re.findall(r"PEAK_RSS_KB (\d+)", result.stderr)]
+    return (summary["wall_time_parts_s"]["time_loop"] / summary["steps"], max(rss),
+            summary["unknowns"])
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--build", default=os.path.join(root, "build"))
+    args = parser.parse_args()
+    program = os.path.join(args.build, "isoimpact")
+    for tool in ["/usr/bin/time", "mpirun"]:
+        if not shutil.which(tool):
+            sys.exit(f"{tool} is needed (Debian: apt-get install time openmpi-bin)")
+    print("| method | level | unknowns | configuration | step [ms] (median) | all runs [ms] "
+          "| speed-up vs 1 x 1 | peak memory per process [MB] | memory vs 1 x 1 |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as work:
+        for method, (prm, levels) in CASES.items():
+            for level in (levels[:1] if args.quick else levels):
+                # dt = 2.5e-4 s at level 4, halved per level (stable); 200
+                # steps inside the impact.
+                dt = 2.5e-4 / 2 ** (level - 4)
+                edited = edit_prm(os.path.join(root, prm), os.path.join(work, "run.prm"),
+                                  {"Discretization/Global refinements": str(level),
+                                   "Time integration/Time step": repr(dt),
+                                   "Time integration/End time": repr(200 * dt),
+                                   "Output/Directory": "out", "Output/VTU interval": "0",
+                                   "Output/History interval": "100",
+                                   "Output/Pressure profile times": "",
+                                   "Output/Progress interval": "100"})
+                times = {name: [] for name, _, _ in CONFIGS}
+                memory = {}
+                unknowns = 0
+                for _ in range(args.repeats):
+                    for name, ranks, threads in CONFIGS:
+                        step, rss, unknowns = run(program, edited, work, ranks, threads)
+                        times[name].append(step)
+                        memory[name] = rss
+                base = statistics.median(times[CONFIGS[0][0]])
+                for name, _, _ in CONFIGS:
+                    median = statistics.median(times[name])
+                    print(f"| {method} | {level} | {unknowns} | {name} | {1e3 * median:.2f} | "
+                          f"{', '.join(f'{1e3 * t:.2f}' for t in times[name])} | "
+                          f"{base / median:.2f} | {memory[name] / 1e6:.0f} | "
+                          f"{memory[name] / memory[CONFIGS[0][0]]:.2f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
