@@ -80,13 +80,6 @@ namespace isoimpact
         send_lists.push_back(std::move(to_send));
         receive_lists.push_back(std::move(to_receive));
       }
-    send_buffers.resize(peers.size());
-    receive_buffers.resize(peers.size());
-    for (unsigned int k = 0; k < peers.size(); ++k)
-      {
-        send_buffers[k].resize(send_lists[k].size());
-        receive_buffers[k].resize(receive_lists[k].size());
-      }
   }
 
   bool
@@ -139,42 +132,85 @@ namespace isoimpact
   }
 
   void
+  UnknownExchange::start_update(const Vector<double>             &vector,
+                                const int                         tag,
+                                std::vector<std::vector<double>> &sends,
+                                std::vector<std::vector<double>> &receives,
+                                std::vector<MPI_Request> &requests) const
+  {
+    sends.resize(peers.size());
+    receives.resize(peers.size());
+    for (unsigned int k = 0; k < peers.size(); ++k)
+      {
+        receives[k].resize(receive_lists[k].size());
+        requests.emplace_back();
+        const int ierr = MPI_Irecv(receives[k].data(),
+                                   receives[k].size(),
+                                   MPI_DOUBLE,
+                                   peers[k],
+                                   tag,
+                                   comm,
+                                   &requests.back());
+        AssertThrowMPI(ierr);
+      }
+    for (unsigned int k = 0; k < peers.size(); ++k)
+      {
+        sends[k].resize(send_lists[k].size());
+        for (std::size_t j = 0; j < send_lists[k].size(); ++j)
+          sends[k][j] = vector[send_lists[k][j]];
+        requests.emplace_back();
+        const int ierr = MPI_Isend(sends[k].data(),
+                                   sends[k].size(),
+                                   MPI_DOUBLE,
+                                   peers[k],
+                                   tag,
+                                   comm,
+                                   &requests.back());
+        AssertThrowMPI(ierr);
+      }
+  }
+
+  void
+  UnknownExchange::finish_update(
+    Vector<double>                         &vector,
+    const std::vector<std::vector<double>> &receives) const
+  {
+    for (unsigned int k = 0; k < peers.size(); ++k)
+      for (std::size_t j = 0; j < receive_lists[k].size(); ++j)
+        vector[receive_lists[k][j]] = receives[k][j];
+  }
+
+  void
   UnknownExchange::update_ghost_values(Vector<double> &vector) const
   {
-    if (peers.empty())
+    update_ghost_values({{this, &vector}});
+  }
+
+  void
+  UnknownExchange::update_ghost_values(
+    const std::vector<std::pair<const UnknownExchange *, Vector<double> *>>
+      &vectors)
+  {
+    // Every rank lists the vectors in the same order: the k-th vector's
+    // messages carry tag k.
+    std::vector<std::vector<std::vector<double>>> sends(vectors.size()),
+      receives(vectors.size());
+    std::vector<MPI_Request> requests;
+    for (unsigned int v = 0; v < vectors.size(); ++v)
+      if (!vectors[v].first->peers.empty())
+        vectors[v].first->start_update(*vectors[v].second,
+                                       4711 + v,
+                                       sends[v],
+                                       receives[v],
+                                       requests);
+    if (requests.empty())
       return;
-    std::vector<MPI_Request> requests(2 * peers.size());
-    const int                tag = 4711;
-    for (unsigned int k = 0; k < peers.size(); ++k)
-      {
-        const int ierr = MPI_Irecv(receive_buffers[k].data(),
-                                   receive_buffers[k].size(),
-                                   MPI_DOUBLE,
-                                   peers[k],
-                                   tag,
-                                   comm,
-                                   &requests[k]);
-        AssertThrowMPI(ierr);
-      }
-    for (unsigned int k = 0; k < peers.size(); ++k)
-      {
-        for (std::size_t j = 0; j < send_lists[k].size(); ++j)
-          send_buffers[k][j] = vector[send_lists[k][j]];
-        const int ierr = MPI_Isend(send_buffers[k].data(),
-                                   send_buffers[k].size(),
-                                   MPI_DOUBLE,
-                                   peers[k],
-                                   tag,
-                                   comm,
-                                   &requests[peers.size() + k]);
-        AssertThrowMPI(ierr);
-      }
     const int ierr =
       MPI_Waitall(requests.size(), requests.data(), MPI_STATUSES_IGNORE);
     AssertThrowMPI(ierr);
-    for (unsigned int k = 0; k < peers.size(); ++k)
-      for (std::size_t j = 0; j < receive_lists[k].size(); ++j)
-        vector[receive_lists[k][j]] = receive_buffers[k][j];
+    for (unsigned int v = 0; v < vectors.size(); ++v)
+      if (!vectors[v].first->peers.empty())
+        vectors[v].first->finish_update(*vectors[v].second, receives[v]);
   }
 
   void

@@ -215,6 +215,7 @@ namespace isoimpact
                                          Vector<double>       &a) const
   {
     step_energies.reset();
+    step_energies_are_partial = false;
     if (fused_lumped_step)
       {
         stiffness_times_u.reinit(u.size(), true);
@@ -360,19 +361,14 @@ namespace isoimpact
         energies.kinetic -= vh[i] * mass[i] * vh[i];
         energies.strain -= u[i] * ku;
       }
+    // The contact forces on the ghosts are their owners' to consume.
     if constexpr (owned_rows_only)
-      {
-        // The contact forces on the ghosts are their owners' to consume.
-        for (const auto i : row_exchange.ghost_unknowns())
-          force[i] = 0.;
-        std::vector<double> sums = {energies.kinetic, energies.strain};
-        row_exchange.sum(sums);
-        energies.kinetic = sums[0];
-        energies.strain  = sums[1];
-      }
+      for (const auto i : row_exchange.ghost_unknowns())
+        force[i] = 0.;
     energies.kinetic *= 0.5;
     energies.strain *= 0.5;
-    step_energies = energies;
+    step_energies             = energies;
+    step_energies_are_partial = owned_rows_only;
   }
 
   template <int dim>
@@ -444,7 +440,32 @@ namespace isoimpact
     for (const auto &[first, end] : row_exchange.owned_ranges())
       for (types::global_dof_index i = first; i < end; ++i)
         u[i] += dt * v[i];
-    row_exchange.update_ghost_values(displacement);
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::sum_step_energies(
+    const std::vector<ElasticBody<dim> *> &bodies)
+  {
+    std::vector<ElasticBody<dim> *> partial;
+    std::vector<double>             sums;
+    for (auto *body : bodies)
+      if (body->step_energies_are_partial)
+        {
+          partial.push_back(body);
+          sums.push_back(body->step_energies->kinetic);
+          sums.push_back(body->step_energies->strain);
+        }
+    if (partial.empty())
+      return;
+    // Every rank has the same bodies with partial energies (the same
+    // scene, the same steps).
+    partial[0]->row_exchange.sum(sums);
+    for (unsigned int k = 0; k < partial.size(); ++k)
+      {
+        partial[k]->step_energies             = {sums[2 * k], sums[2 * k + 1]};
+        partial[k]->step_energies_are_partial = false;
+      }
   }
 
   template <int dim>
@@ -467,6 +488,8 @@ namespace isoimpact
   const std::optional<typename ElasticBody<dim>::StepEnergies> &
   ElasticBody<dim>::energies_of_last_step() const
   {
+    if (step_energies_are_partial)
+      sum_step_energies({const_cast<ElasticBody<dim> *>(this)});
     return step_energies;
   }
 

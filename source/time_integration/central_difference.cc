@@ -170,16 +170,22 @@ namespace isoimpact
                                   const bool form_whole_step_state)
   {
     kinetic_energy_of_step = std::numeric_limits<double>::quiet_NaN();
+    // On several ranks each body advances its owned entries, and the ghosts
+    // of all bodies come from their owners in one round of messages (no
+    // messages on one process). The contact damping reads the half-step
+    // velocity of the surfaces.
+    std::vector<std::pair<const UnknownExchange *, Vector<double> *>> ghosts;
     for (unsigned int b = 0; b < bodies.size(); ++b)
       {
-        // On several ranks: the owned entries are right, the ghosts come
-        // from their owners (no-ops on one process). The contact damping
-        // reads the half-step velocity of the surfaces.
         bodies[b]->advance_displacement(half_step_velocity[b], dt);
+        ghosts.emplace_back(&bodies[b]->exchange(), &bodies[b]->displacement);
         if (damped_contact)
-          bodies[b]->update_ghost_values(half_step_velocity[b]);
+          ghosts.emplace_back(&bodies[b]->exchange(), &half_step_velocity[b]);
       }
+    UnknownExchange::update_ghost_values(ghosts);
     compute_accelerations(record_contact_points, true, form_whole_step_state);
+    // The bodies' step energies summed over the ranks in one message.
+    ElasticBody<dim>::sum_step_energies(bodies);
     for (const auto &result : results)
       contact_damping_work += dt * result.damping_power;
     ++step;

@@ -66,6 +66,12 @@ namespace isoimpact
     // The ghosts of `vector` receive their owners' values.
     void
     update_ghost_values(dealii::Vector<double> &vector) const;
+    // The same for several vectors (of several bodies) in one round of
+    // messages: the ranks wait for each other once.
+    static void
+    update_ghost_values(
+      const std::vector<
+        std::pair<const UnknownExchange *, dealii::Vector<double> *>> &vectors);
     // Every entry of `vector` receives its owner's value.
     void
     gather(dealii::Vector<double> &vector) const;
@@ -88,8 +94,18 @@ namespace isoimpact
       receive_lists;
     // For gather(): every rank's owned unknowns, sorted.
     std::vector<std::vector<dealii::types::global_dof_index>> owned_by_rank;
-    mutable std::vector<std::vector<double>> send_buffers, receive_buffers;
-    mutable std::vector<double>              gather_buffer;
+    // Posts the receives and sends of `vector` (tag `tag`) into `requests`
+    // with buffers of its own; finish_update() unpacks after the wait.
+    void
+    start_update(const dealii::Vector<double>     &vector,
+                 const int                         tag,
+                 std::vector<std::vector<double>> &sends,
+                 std::vector<std::vector<double>> &receives,
+                 std::vector<MPI_Request>         &requests) const;
+    void
+                                finish_update(dealii::Vector<double>                 &vector,
+                                              const std::vector<std::vector<double>> &receives) const;
+    mutable std::vector<double> gather_buffer;
   };
 } // namespace isoimpact
 

@@ -197,7 +197,8 @@ namespace isoimpact
      * unknowns the rank owns, and the displacement must then receive its
      * ghosts (update_ghost_values) before the next step. `shared` are the
      * unknowns every rank reads (the contact surfaces'). The energies of
-     * the step are summed over the ranks. Needs the fused lumped step
+     * the step are summed over the ranks (sum_step_energies, or when first
+     * read). Needs the fused lumped step
      * (lumped mass, constraints u_i = 0 alone) and no mass redistribution
      * or penalty masses; throws otherwise. One rank: nothing changes.
      */
@@ -207,10 +208,14 @@ namespace isoimpact
     const UnknownExchange &
     exchange() const;
     // u += dt v: on one process the whole displacement; on several ranks
-    // the owned entries, and the ghosts then from their owners.
+    // the owned entries (the ghosts must then come from their owners).
     void
     advance_displacement(const dealii::Vector<double> &half_step_velocity,
                          const double                  dt);
+    // On several ranks: the energies of the bodies' last steps summed over
+    // the ranks in one message (the ranks wait for each other once).
+    static void
+    sum_step_energies(const std::vector<ElasticBody<dim> *> &bodies);
     // The ghost entries of a state vector from their owners (nothing on one
     // process).
     void
@@ -276,7 +281,9 @@ namespace isoimpact
     // partial sums per block of unknowns (a fixed order: the same bits
     // whatever the threads).
     mutable std::optional<StepEnergies> step_energies;
-    mutable std::vector<StepEnergies>   block_energies;
+    // On several ranks: step_energies holds this rank's part only.
+    mutable bool                      step_energies_are_partial = false;
+    mutable std::vector<StepEnergies> block_energies;
     // Bipenalty: the condensed penalty masses in use and a dense scratch.
     std::vector<std::pair<dealii::types::global_dof_index, double>>
                            penalty_masses;
