@@ -191,6 +191,10 @@ namespace isoimpact
     const std::vector<std::pair<const UnknownExchange *, Vector<double> *>>
       &vectors)
   {
+    if (std::all_of(vectors.begin(), vectors.end(), [](const auto &vector) {
+          return vector.first->peers.empty();
+        }))
+      return; // one process: nothing to send
     // Every rank lists the vectors in the same order: the k-th vector's
     // messages carry tag k.
     std::vector<std::vector<std::vector<double>>> sends(vectors.size()),
@@ -203,8 +207,6 @@ namespace isoimpact
                                        sends[v],
                                        receives[v],
                                        requests);
-    if (requests.empty())
-      return;
     const int ierr =
       MPI_Waitall(requests.size(), requests.data(), MPI_STATUSES_IGNORE);
     AssertThrowMPI(ierr);

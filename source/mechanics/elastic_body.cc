@@ -470,13 +470,6 @@ namespace isoimpact
 
   template <int dim>
   void
-  ElasticBody<dim>::update_ghost_values(Vector<double> &vector) const
-  {
-    row_exchange.update_ghost_values(vector);
-  }
-
-  template <int dim>
-  void
   ElasticBody<dim>::gather_state()
   {
     row_exchange.gather(displacement);
@@ -488,6 +481,8 @@ namespace isoimpact
   const std::optional<typename ElasticBody<dim>::StepEnergies> &
   ElasticBody<dim>::energies_of_last_step() const
   {
+    // Summed by this body alone if nobody summed them with the others'
+    // (only mutable members change).
     if (step_energies_are_partial)
       sum_step_energies({const_cast<ElasticBody<dim> *>(this)});
     return step_energies;

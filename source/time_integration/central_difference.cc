@@ -37,10 +37,19 @@ namespace isoimpact
         force_is_zero.push_back(true);
       }
     body_penalty_masses.resize(bodies.size());
+    bool damped_contact = false;
     for (const auto &interaction : contacts)
       {
         bipenalty |= interaction.contact->bipenalty_mass() > 0.;
         damped_contact |= interaction.contact->damping_ratio() > 0.;
+      }
+    for (unsigned int b = 0; b < bodies.size(); ++b)
+      {
+        ghost_vectors.emplace_back(&bodies[b]->exchange(),
+                                   &bodies[b]->displacement);
+        if (damped_contact)
+          ghost_vectors.emplace_back(&bodies[b]->exchange(),
+                                     &half_step_velocity[b]);
       }
     for (const auto &interaction : contacts)
       {
@@ -172,17 +181,10 @@ namespace isoimpact
     kinetic_energy_of_step = std::numeric_limits<double>::quiet_NaN();
     // On several ranks each body advances its owned entries, and the ghosts
     // of all bodies come from their owners in one round of messages (no
-    // messages on one process). The contact damping reads the half-step
-    // velocity of the surfaces.
-    std::vector<std::pair<const UnknownExchange *, Vector<double> *>> ghosts;
+    // messages on one process).
     for (unsigned int b = 0; b < bodies.size(); ++b)
-      {
-        bodies[b]->advance_displacement(half_step_velocity[b], dt);
-        ghosts.emplace_back(&bodies[b]->exchange(), &bodies[b]->displacement);
-        if (damped_contact)
-          ghosts.emplace_back(&bodies[b]->exchange(), &half_step_velocity[b]);
-      }
-    UnknownExchange::update_ghost_values(ghosts);
+      bodies[b]->advance_displacement(half_step_velocity[b], dt);
+    UnknownExchange::update_ghost_values(ghost_vectors);
     compute_accelerations(record_contact_points, true, form_whole_step_state);
     // The bodies' step energies summed over the ranks in one message.
     ElasticBody<dim>::sum_step_energies(bodies);

@@ -216,10 +216,6 @@ namespace isoimpact
     // the ranks in one message (the ranks wait for each other once).
     static void
     sum_step_energies(const std::vector<ElasticBody<dim> *> &bodies);
-    // The ghost entries of a state vector from their owners (nothing on one
-    // process).
-    void
-    update_ghost_values(dealii::Vector<double> &vector) const;
     // Displacement, velocity and acceleration complete on every rank (for
     // the output; nothing on one process).
     void

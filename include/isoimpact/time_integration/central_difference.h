@@ -150,8 +150,11 @@ namespace isoimpact
     // per body the penalty masses of the last evaluation.
     double bipenalty_switching_work = 0.;
     bool   bipenalty                = false;
-    // A contact model with damping (it reads the half-step velocities).
-    bool damped_contact = false;
+    // The vectors whose ghosts each step updates (several MPI ranks): the
+    // displacements, and the half-step velocities if a contact is damped
+    // (the damping reads them).
+    std::vector<std::pair<const UnknownExchange *, dealii::Vector<double> *>>
+      ghost_vectors;
     std::vector<std::vector<std::pair<dealii::types::global_dof_index, double>>>
                                     body_penalty_masses;
     std::vector<ContactResult<dim>> results;
