@@ -1,6 +1,8 @@
 // Layer 4: stable time step bounds and estimate.
 #include <deal.II/base/quadrature_lib.h>
 
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+
 #include <isoimpact/mechanics/stable_time_step.h>
 
 #include <Eigen/Dense>
@@ -123,10 +125,17 @@ namespace isoimpact
       FullMatrix<double>                   bound;
     };
     std::vector<SegmentSpring> segment_springs;
-    SparseMatrix<double>       spring_matrix(
-      body.stiffness_matrix().get_sparsity_pattern());
-    SparseMatrix<double> spring_bound_matrix(
-      body.stiffness_matrix().get_sparsity_pattern());
+    // Their own pattern, the surface's couplings alone: a copy of the
+    // stiffness pattern would hold one value per entry of K, twice.
+    DynamicSparsityPattern surface_couplings(body.n_dofs());
+    for (const auto &spring : springs)
+      for (const auto &segment : *spring.segments)
+        constraints.add_entries_local_to_global(segment_dofs(segment),
+                                                surface_couplings);
+    SparsityPattern spring_pattern;
+    spring_pattern.copy_from(surface_couplings);
+    SparseMatrix<double> spring_matrix(spring_pattern);
+    SparseMatrix<double> spring_bound_matrix(spring_pattern);
     for (const auto &spring : springs)
       for (const auto &segment : *spring.segments)
         {
@@ -242,12 +251,18 @@ namespace isoimpact
             // explicit system: M_I^{-1} K_II bounds it (see below).
             if (constraints.is_constrained(i) || mass(i) == 0.)
               continue;
-            // Both matrices share the sparsity pattern: walk them together.
-            double row_sum = 0.;
-            auto   spring  = spring_bound_matrix.begin(i);
+            // The springs' couplings lie inside K's pattern (segments lie
+            // in cells); only the surface's rows have them.
+            double     row_sum = 0.;
+            const bool springs_in_row =
+              spring_pattern.row_length(i) > 1 ||
+              spring_bound_matrix.diag_element(i) != 0.;
             for (auto entry = stiffness.begin(i); entry != stiffness.end(i);
-                 ++entry, ++spring)
-              row_sum += std::abs(entry->value() + spring->value());
+                 ++entry)
+              row_sum += std::abs(
+                entry->value() + (springs_in_row ?
+                                    spring_bound_matrix.el(i, entry->column()) :
+                                    0.));
             lambda = std::max(lambda, row_sum / mass(i));
           }
         result.gershgorin_bound = time_step_from_eigenvalue(lambda);
