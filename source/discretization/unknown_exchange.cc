@@ -58,6 +58,9 @@ namespace isoimpact
     owned_here.assign(n, 0);
     for (const auto i : owned)
       owned_here[i] = 1;
+    cells_here.resize(partition.n_cells());
+    for (unsigned int c = 0; c < cells_here.size(); ++c)
+      cells_here[c] = partition.cell_owner(c) == rank;
     for (const auto i : owned)
       if (!ranges.empty() && ranges.back().second == i)
         ++ranges.back().second;
@@ -129,6 +132,12 @@ namespace isoimpact
   UnknownExchange::is_owned(const types::global_dof_index unknown) const
   {
     return n_procs == 1 || owned_here[unknown] != 0;
+  }
+
+  bool
+  UnknownExchange::owns_cell(const unsigned int active_cell_index) const
+  {
+    return n_procs == 1 || cells_here[active_cell_index] != 0;
   }
 
   void
@@ -265,6 +274,12 @@ namespace isoimpact
         for (unsigned int p = 1; p < n_procs; ++p)
           values[j] += all[p * values.size() + j];
       }
+  }
+
+  double
+  UnknownExchange::max(const double value) const
+  {
+    return n_procs == 1 ? value : Utilities::MPI::max(value, comm);
   }
 
   template UnknownExchange::UnknownExchange(

@@ -112,6 +112,13 @@ namespace isoimpact
 
   template <int dim>
   unsigned int
+  UnknownPartition<dim>::n_cells() const
+  {
+    return cell_owners.size();
+  }
+
+  template <int dim>
+  unsigned int
   UnknownPartition<dim>::cell_owner(const unsigned int active_cell_index) const
   {
     AssertIndexRange(active_cell_index, cell_owners.size());

@@ -18,13 +18,37 @@ namespace isoimpact
   void
   make_sparsity_pattern(const Discretization<dim>       &discretization,
                         const AffineConstraints<double> &constraints,
-                        SparsityPattern                 &sparsity_pattern)
+                        SparsityPattern                 &sparsity_pattern,
+                        const RowSelection              *selection)
   {
-    DynamicSparsityPattern               dsp(discretization.n_dofs());
+    const types::global_dof_index n = discretization.n_dofs();
+    // With a selection, the dynamic pattern stores the selected rows alone
+    // (and drops entries of other rows).
+    IndexSet rows(n);
+    if (selection)
+      {
+        for (types::global_dof_index i = 0; i < n;)
+          {
+            if (!selection->rows(i))
+              {
+                ++i;
+                continue;
+              }
+            types::global_dof_index end = i + 1;
+            while (end < n && selection->rows(end))
+              ++end;
+            rows.add_range(i, end);
+            i = end;
+          }
+        rows.compress();
+      }
+    DynamicSparsityPattern dsp(n, n, selection ? rows : IndexSet());
     std::vector<types::global_dof_index> indices;
     for (const auto &cell :
          discretization.dof_handler().active_cell_iterators())
       {
+        if (selection && !selection->cells(cell->active_cell_index()))
+          continue;
         discretization.get_dof_indices(cell, indices);
         constraints.add_entries_local_to_global(indices, dsp, false);
       }
@@ -35,14 +59,26 @@ namespace isoimpact
   {
     // Loops over cells with FEValues and hands the local matrix of `local`
     // to the constraints for condensation into the global matrix.
+    // With a selection, the selected rows of the cells it accepts: the
+    // condensation of constraints u_i = 0 done here (deal.II's would write
+    // the other rows, which the pattern lacks), with the same additions,
+    // so the same bits: free rows get the free columns' entries, a
+    // constrained row the diagonal deal.II gives it.
     template <int dim, typename LocalAssembler>
     void
     assemble_matrix(const Discretization<dim>       &discretization,
                     const UpdateFlags                flags,
                     const AffineConstraints<double> &constraints,
                     SparseMatrix<double>            &matrix,
-                    const LocalAssembler            &local)
+                    const LocalAssembler            &local,
+                    const RowSelection              *selection = nullptr)
     {
+      if (selection)
+        for (const auto &line : constraints.get_lines())
+          AssertThrow(line.entries.empty() && line.inhomogeneity == 0.,
+                      ExcMessage("the rows of a rank are assembled with "
+                                 "constraints u_i = 0 alone (no hanging "
+                                 "nodes, no inhomogeneities)"));
       const auto                          &fe = discretization.fe();
       FEValues<dim>                        fe_values(discretization.mapping(),
                               fe,
@@ -55,11 +91,48 @@ namespace isoimpact
       for (const auto &cell :
            discretization.dof_handler().active_cell_iterators())
         {
+          if (selection && !selection->cells(cell->active_cell_index()))
+            continue;
           fe_values.reinit(cell);
           cell_matrix = 0.;
           local(fe_values, cell_matrix);
           discretization.get_dof_indices(cell, indices);
-          constraints.distribute_local_to_global(cell_matrix, indices, matrix);
+          if (!selection)
+            {
+              constraints.distribute_local_to_global(cell_matrix,
+                                                     indices,
+                                                     matrix);
+              continue;
+            }
+          const unsigned int n = indices.size();
+          // deal.II's diagonal of a constrained row (set_matrix_diagonals):
+          // |K_ii| of the cell, else the mean |diagonal|, else l1 / n, else 1.
+          double average_diagonal = 0.;
+          for (unsigned int i = 0; i < n; ++i)
+            average_diagonal += std::abs(cell_matrix(i, i));
+          average_diagonal /= n;
+          if (average_diagonal == 0.)
+            {
+              average_diagonal = cell_matrix.l1_norm() / n;
+              if (average_diagonal == 0.)
+                average_diagonal = 1.;
+            }
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              if (!selection->rows(indices[i]))
+                continue;
+              if (constraints.is_constrained(indices[i]))
+                {
+                  const double diagonal = std::abs(cell_matrix(i, i));
+                  matrix.add(indices[i],
+                             indices[i],
+                             diagonal != 0. ? diagonal : average_diagonal);
+                  continue;
+                }
+              for (unsigned int j = 0; j < n; ++j)
+                if (!constraints.is_constrained(indices[j]))
+                  matrix.add(indices[i], indices[j], cell_matrix(i, j));
+            }
         }
     }
 
@@ -168,7 +241,8 @@ namespace isoimpact
   assemble_stiffness_matrix(const Discretization<dim>       &discretization,
                             const ElasticMaterial           &material,
                             const AffineConstraints<double> &constraints,
-                            SparseMatrix<double>            &stiffness_matrix)
+                            SparseMatrix<double>            &stiffness_matrix,
+                            const RowSelection              *selection)
   {
     std::vector<SymmetricTensor<2, dim>> strain;
     assemble_matrix<dim>(
@@ -178,7 +252,8 @@ namespace isoimpact
       stiffness_matrix,
       [&](const FEValues<dim> &fe_values, FullMatrix<double> &cell_matrix) {
         local_stiffness_matrix(fe_values, material, strain, cell_matrix);
-      });
+      },
+      selection);
   }
 
   template <int dim>
@@ -359,12 +434,14 @@ namespace isoimpact
   template void
   make_sparsity_pattern(const Discretization<2> &,
                         const AffineConstraints<double> &,
-                        SparsityPattern &);
+                        SparsityPattern &,
+                        const RowSelection *);
   template void
   assemble_stiffness_matrix(const Discretization<2> &,
                             const ElasticMaterial &,
                             const AffineConstraints<double> &,
-                            SparseMatrix<double> &);
+                            SparseMatrix<double> &,
+                            const RowSelection *);
   template void
   assemble_consistent_mass_matrix(const Discretization<2> &,
                                   const double,

@@ -41,7 +41,8 @@ namespace isoimpact
     const ElasticMaterial               &material,
     const MassScheme                     mass_scheme,
     const std::vector<RollerCondition>  &rollers,
-    const Tensor<1, dim>                &initial_velocity)
+    const Tensor<1, dim>                &initial_velocity,
+    const RankDistribution              *ranks)
     : body_name(name)
     , discretization_ptr(std::move(discretization))
     , body_material(material)
@@ -55,9 +56,49 @@ namespace isoimpact
                                            body_constraints);
     body_constraints.close();
 
-    make_sparsity_pattern(disc, body_constraints, sparsity_pattern);
+    // Several ranks: the partition of the unknowns, then the rows of the
+    // owned unknowns from the cells that carry them.
+    std::optional<UnknownPartition<dim>> partition;
+    std::optional<RowSelection>          owned_rows;
+    if (ranks && Utilities::MPI::job_supports_mpi() &&
+        Utilities::MPI::n_mpi_processes(ranks->communicator) > 1)
+      {
+        const unsigned int n_ranks =
+          Utilities::MPI::n_mpi_processes(ranks->communicator);
+        AssertThrow(scheme != MassScheme::consistent,
+                    ExcMessage(body_name +
+                               " cannot run on several MPI ranks with the "
+                               "consistent mass: that needs a lumped mass "
+                               "(row-sum or HRZ)"));
+        for (const auto &line : body_constraints.get_lines())
+          AssertThrow(line.entries.empty() && line.inhomogeneity == 0.,
+                      ExcMessage(body_name +
+                                 " cannot run on several MPI ranks with "
+                                 "hanging-node constraints (local "
+                                 "refinement)"));
+        partition.emplace(disc, n_ranks);
+        row_exchange =
+          UnknownExchange(*partition, ranks->communicator, ranks->shared);
+        const unsigned int rank = row_exchange.this_rank();
+        owned_rows =
+          RowSelection{[this](const types::global_dof_index i) {
+                         return row_exchange.is_owned(i);
+                       },
+                       [&partition, rank](const unsigned int cell) {
+                         return partition->is_assembly_cell(cell, rank);
+                       }};
+      }
+
+    make_sparsity_pattern(disc,
+                          body_constraints,
+                          sparsity_pattern,
+                          owned_rows ? &*owned_rows : nullptr);
     stiffness.reinit(sparsity_pattern);
-    assemble_stiffness_matrix(disc, material, body_constraints, stiffness);
+    assemble_stiffness_matrix(disc,
+                              material,
+                              body_constraints,
+                              stiffness,
+                              owned_rows ? &*owned_rows : nullptr);
 
     if (scheme == MassScheme::consistent)
       {
@@ -220,6 +261,9 @@ namespace isoimpact
       {
         stiffness_times_u.reinit(u.size(), true);
         stiffness.vmult(stiffness_times_u, u);
+        // Several ranks: each holds its rows of K; the whole product (the
+        // initial acceleration) from their owners.
+        row_exchange.gather(stiffness_times_u);
         lumped_step_pass(f, a);
         return;
       }
@@ -393,30 +437,6 @@ namespace isoimpact
   }
 
   template <int dim>
-  void
-  ElasticBody<dim>::distribute_rows(
-    const MPI_Comm                              communicator,
-    const std::vector<types::global_dof_index> &shared)
-  {
-    if (!Utilities::MPI::job_supports_mpi())
-      return;
-    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
-    if (n_ranks == 1)
-      return;
-    AssertThrow(fused_lumped_step,
-                ExcMessage(body_name +
-                           " cannot run on several MPI ranks: that needs a "
-                           "lumped mass (row-sum or HRZ) and no hanging-node "
-                           "constraints (no local refinement)"));
-    AssertThrow(massless.empty() && penalty_masses.empty(),
-                ExcMessage(body_name + " cannot run on several MPI ranks "
-                                       "with mass redistribution or penalty "
-                                       "masses"));
-    const UnknownPartition<dim> partition(*discretization_ptr, n_ranks);
-    row_exchange = UnknownExchange(partition, communicator, shared);
-  }
-
-  template <int dim>
   const UnknownExchange &
   ElasticBody<dim>::exchange() const
   {
@@ -550,6 +570,9 @@ namespace isoimpact
   double
   ElasticBody<dim>::strain_energy(const Vector<double> &u) const
   {
+    AssertThrow(!row_exchange.is_distributed(),
+                ExcMessage("strain_energy() of " + body_name +
+                           " on several MPI ranks: use the step energies"));
     scratch = u;
     body_constraints.set_zero(scratch);
     return 0.5 * stiffness.matrix_norm_square(scratch);
@@ -619,9 +642,12 @@ namespace isoimpact
     const unsigned int          n_iterations,
     const SparseMatrix<double> *additional_stiffness) const
   {
+    // Several ranks: each holds its rows of K, the rest of K x comes from
+    // their owners; every rank then iterates the same whole vectors.
     const auto stiffness_vmult = [&](Vector<double>       &y,
                                      const Vector<double> &x) {
       stiffness.vmult(y, x);
+      row_exchange.gather(y);
       if (additional_stiffness)
         additional_stiffness->vmult_add(y, x);
     };
@@ -743,6 +769,9 @@ namespace isoimpact
   ElasticBody<dim>::redistribute_mass(
     const std::vector<BoundarySegment<dim>> &surface)
   {
+    AssertThrow(!row_exchange.is_distributed(),
+                ExcMessage("mass redistribution of " + body_name +
+                           " is not supported on several MPI ranks"));
     AssertThrow(scheme != MassScheme::consistent,
                 ExcMessage("mass redistribution of " + body_name +
                            " needs a lumped mass (row-sum or HRZ); the "

@@ -251,6 +251,9 @@ namespace isoimpact
             // explicit system: M_I^{-1} K_II bounds it (see below).
             if (constraints.is_constrained(i) || mass(i) == 0.)
               continue;
+            // Several ranks: each has the rows of its own unknowns.
+            if (!body.exchange().is_owned(i))
+              continue;
             // The springs' couplings lie inside K's pattern (segments lie
             // in cells); only the surface's rows have them.
             double     row_sum = 0.;
@@ -265,7 +268,8 @@ namespace isoimpact
                                     0.));
             lambda = std::max(lambda, row_sum / mass(i));
           }
-        result.gershgorin_bound = time_step_from_eigenvalue(lambda);
+        result.gershgorin_bound =
+          time_step_from_eigenvalue(body.exchange().max(lambda));
       }
     return result;
   }

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <tuple>
 
@@ -415,16 +416,36 @@ namespace isoimpact
         if (body.symmetry_cut &&
             body.geometry.shape == BodyGeometry::Shape::half_disk)
           rollers.push_back({BodyGeometry::symmetry_boundary_id, 0});
-        scene.bodies.push_back(std::make_unique<ElasticBody<2>>(
-          "body" + std::to_string(b + 1),
-          create_discretization<2>(parameters.method,
-                                   body.geometry,
-                                   parameters.degree,
-                                   parameters.fea_element),
-          body.material,
-          parameters.mass_scheme,
-          rollers,
-          body.initial_velocity));
+        auto discretization = create_discretization<2>(parameters.method,
+                                                       body.geometry,
+                                                       parameters.degree,
+                                                       parameters.fea_element);
+        // Several MPI ranks: each builds and computes the rows of its own
+        // unknowns, and reads the contact surfaces whole (their unknowns
+        // are every rank's).
+        std::optional<RankDistribution> ranks;
+        if (n_world_ranks() > 1)
+          {
+            ranks.emplace(RankDistribution{MPI_COMM_WORLD, {}});
+            for (const auto &segment : discretization->boundary_segments(
+                   BodyGeometry::curved_boundary_id))
+              for (const auto &node : segment.node_dofs)
+                ranks->shared.insert(ranks->shared.end(),
+                                     node.begin(),
+                                     node.end());
+            std::sort(ranks->shared.begin(), ranks->shared.end());
+            ranks->shared.erase(std::unique(ranks->shared.begin(),
+                                            ranks->shared.end()),
+                                ranks->shared.end());
+          }
+        scene.bodies.push_back(
+          std::make_unique<ElasticBody<2>>("body" + std::to_string(b + 1),
+                                           std::move(discretization),
+                                           body.material,
+                                           parameters.mass_scheme,
+                                           rollers,
+                                           body.initial_velocity,
+                                           ranks ? &*ranks : nullptr));
       }
 
     // The surface masses: the lumped masses in use, or HRZ's for a
@@ -569,19 +590,6 @@ namespace isoimpact
     if (parameters.approach_law != "none")
       scene.reference = make_reference(parameters);
 
-    // Several MPI ranks: each computes the rows of its own unknowns and
-    // reads the contact surfaces whole (their unknowns are every rank's).
-    if (n_world_ranks() > 1)
-      for (unsigned int b = 0; b < scene.bodies.size(); ++b)
-        {
-          std::vector<types::global_dof_index> shared;
-          for (const auto &segment : surfaces[b])
-            for (const auto &node : segment.node_dofs)
-              shared.insert(shared.end(), node.begin(), node.end());
-          std::sort(shared.begin(), shared.end());
-          shared.erase(std::unique(shared.begin(), shared.end()), shared.end());
-          scene.bodies[b]->distribute_rows(MPI_COMM_WORLD, shared);
-        }
     return scene;
   }
 

@@ -62,6 +62,10 @@ namespace isoimpact
     // Whether this rank owns an unknown (every unknown on one process).
     bool
     is_owned(const dealii::types::global_dof_index unknown) const;
+    // Whether the cell (active_cell_index()) is one of this rank's part
+    // (every cell on one process): the cells it writes to ParaView.
+    bool
+    owns_cell(const unsigned int active_cell_index) const;
 
     // The ghosts of `vector` receive their owners' values.
     void
@@ -78,6 +82,9 @@ namespace isoimpact
     // The sum over the ranks (the same bits on every rank).
     void
     sum(std::vector<double> &values) const;
+    // The largest value over the ranks.
+    double
+    max(const double value) const;
 
   private:
     MPI_Comm                                     comm    = MPI_COMM_SELF;
@@ -85,6 +92,7 @@ namespace isoimpact
     unsigned int                                 rank    = 0;
     std::vector<dealii::types::global_dof_index> owned, ghosts;
     std::vector<unsigned char>                   owned_here;
+    std::vector<unsigned char>                   cells_here; // several ranks
     std::vector<std::pair<dealii::types::global_dof_index,
                           dealii::types::global_dof_index>>
       ranges;

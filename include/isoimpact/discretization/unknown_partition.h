@@ -31,7 +31,9 @@ namespace isoimpact
     unsigned int
     n_parts() const;
 
-    // Part of an active cell (by its active_cell_index()).
+    // The active cells, and the part of one (by its active_cell_index()).
+    unsigned int
+    n_cells() const;
     unsigned int
     cell_owner(const unsigned int active_cell_index) const;
 

@@ -36,11 +36,29 @@ namespace isoimpact
     return mass_scheme_names.to_string(scheme);
   }
 
+  // With a filter: the cells whose active_cell_index() it accepts only (in
+  // the same order).
+  using CellFilter = std::function<bool(unsigned int active_cell_index)>;
+
+  /**
+   * Issue 13: the rows of a matrix that one MPI rank builds, those of the
+   * unknowns it owns (`rows`), from the cells that carry one of them
+   * (`cells`). The other rows hold a zero diagonal entry only. The rows
+   * built have the entries of the whole matrix, bit for bit. Constraints
+   * must be of the form u_i = 0 alone (no hanging nodes).
+   */
+  struct RowSelection
+  {
+    std::function<bool(dealii::types::global_dof_index)> rows;
+    CellFilter                                           cells;
+  };
+
   template <int dim>
   void
   make_sparsity_pattern(const Discretization<dim>               &discretization,
                         const dealii::AffineConstraints<double> &constraints,
-                        dealii::SparsityPattern &sparsity_pattern);
+                        dealii::SparsityPattern &sparsity_pattern,
+                        const RowSelection      *selection = nullptr);
 
   template <int dim>
   void
@@ -48,7 +66,8 @@ namespace isoimpact
     const Discretization<dim>               &discretization,
     const ElasticMaterial                   &material,
     const dealii::AffineConstraints<double> &constraints,
-    dealii::SparseMatrix<double>            &stiffness_matrix);
+    dealii::SparseMatrix<double>            &stiffness_matrix,
+    const RowSelection                      *selection = nullptr);
 
   template <int dim>
   void
@@ -94,9 +113,6 @@ namespace isoimpact
                        const dealii::FullMatrix<double> &stiffness,
                        const dealii::FullMatrix<double> &mass)>;
 
-  // With a filter: the cells whose active_cell_index() it accepts only (in
-  // the same order).
-  using CellFilter = std::function<bool(unsigned int active_cell_index)>;
   template <int dim>
   void
   for_each_element(const Discretization<dim> &discretization,

@@ -24,16 +24,37 @@ namespace isoimpact
     unsigned int               component;
   };
 
+  // Issue 13 (doc/parallel.md): the MPI ranks a body is split over, and the
+  // unknowns every rank reads whole (the contact surfaces').
+  struct RankDistribution
+  {
+    MPI_Comm                                     communicator;
+    std::vector<dealii::types::global_dof_index> shared;
+  };
+
   template <int dim>
   class ElasticBody
   {
   public:
+    /**
+     * With `ranks` of several processes, the body is split over them
+     * (doc/parallel.md): each rank builds the rows of the stiffness matrix
+     * of the unknowns it owns (UnknownPartition), and the step
+     * (compute_acceleration_and_velocities) computes those rows only; the
+     * displacement must then receive its ghosts (UnknownExchange::
+     * update_ghost_values) before the next step. The state vectors and the
+     * masses stay whole on every rank. The energies of a step are summed
+     * over the ranks (sum_step_energies, or when first read). Needs a
+     * lumped mass and constraints u_i = 0 alone (no local refinement), and
+     * no mass redistribution or penalty masses; throws otherwise.
+     */
     ElasticBody(const std::string                   &name,
                 std::unique_ptr<Discretization<dim>> discretization,
                 const ElasticMaterial               &material,
                 const MassScheme                     mass_scheme,
                 const std::vector<RollerCondition>  &rollers,
-                const dealii::Tensor<1, dim>        &initial_velocity);
+                const dealii::Tensor<1, dim>        &initial_velocity,
+                const RankDistribution              *ranks = nullptr);
 
     const std::string &
     name() const;
@@ -45,6 +66,7 @@ namespace isoimpact
     constraints() const;
     MassScheme
     mass_scheme() const;
+    // On several ranks: the rows of this rank's unknowns only.
     const dealii::SparseMatrix<double> &
     stiffness_matrix() const;
     dealii::types::global_dof_index
@@ -190,21 +212,7 @@ namespace isoimpact
     const dealii::Vector<double> &
     lumped_masses_before_redistribution() const;
 
-    /**
-     * Issue 13: the step on the ranks of `communicator` (doc/parallel.md).
-     * Every rank keeps the whole state, matrices and masses; the step
-     * (compute_acceleration_and_velocities) computes the rows of the
-     * unknowns the rank owns, and the displacement must then receive its
-     * ghosts (update_ghost_values) before the next step. `shared` are the
-     * unknowns every rank reads (the contact surfaces'). The energies of
-     * the step are summed over the ranks (sum_step_energies, or when first
-     * read). Needs the fused lumped step
-     * (lumped mass, constraints u_i = 0 alone) and no mass redistribution
-     * or penalty masses; throws otherwise. One rank: nothing changes.
-     */
-    void
-    distribute_rows(const MPI_Comm communicator,
-                    const std::vector<dealii::types::global_dof_index> &shared);
+    // The rows this rank computes and its ghosts (see the constructor).
     const UnknownExchange &
     exchange() const;
     // u += dt v: on one process the whole displacement; on several ranks
