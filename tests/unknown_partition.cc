@@ -25,7 +25,12 @@
 //    unknowns, in the ranks' order, and a LinearAlgebra::distributed::Vector
 //    over it (owned range, relevant set renumbered) receives the value of
 //    every relevant unknown through update_ghost_values() exactly.
-// 4. Discretization::renumber_unknowns() with that numbering: positions,
+// 4. The rows a rank of the program builds (RowSelection) with the
+//    symmetry constraints: the owned rows equal deal.II's condensed serial
+//    matrix bit for bit (0 difference), the other rows hold a zero
+//    diagonal only, and the pattern stores the owned rows' entries plus
+//    one per other row.
+// 5. Discretization::renumber_unknowns() with that numbering: positions,
 //    components, roller constraints, HRZ masses, stiffness entries, contact
 //    segments' unknowns and the field on every cell equal the original's
 //    with the unknowns permuted, bit for bit (0 difference).
@@ -248,6 +253,86 @@ namespace
                     0.);
     CHECK_CLOSE_ABS(ghost_difference, 0., 0.);
   }
+  // The rows a rank of the program builds (RowSelection, used by
+  // ElasticBody on several ranks): with the symmetry constraints u_x = 0,
+  // the owned rows of the restricted pattern and matrix equal the serial
+  // ones (deal.II's condensation) bit for bit, and every other row holds its
+  // diagonal only, so the pattern stores the owned rows' entries plus one
+  // per other row.
+  void
+  check_row_selection(const Discretization<2> &discretization,
+                      const MPI_Comm           communicator)
+  {
+    const unsigned int rank    = Utilities::MPI::this_mpi_process(communicator);
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+    const UnknownPartition<2> partition(discretization, n_ranks);
+    const IndexSet           &owned = partition.owned_unknowns(rank);
+    const ElasticMaterial     material;
+    AffineConstraints<double> constraints;
+    discretization.constrain_component_on_boundary(
+      BodyGeometry::symmetry_boundary_id,
+      0,
+      constraints);
+    constraints.close();
+
+    SparsityPattern pattern;
+    make_sparsity_pattern(discretization, constraints, pattern);
+    SparseMatrix<double> stiffness(pattern);
+    assemble_stiffness_matrix(discretization, material, constraints, stiffness);
+
+    const RowSelection selection{[&](const types::global_dof_index i) {
+                                   return owned.is_element(i);
+                                 },
+                                 [&](const unsigned int cell) {
+                                   return partition.is_assembly_cell(cell,
+                                                                     rank);
+                                 }};
+    SparsityPattern    rows_pattern;
+    make_sparsity_pattern(discretization,
+                          constraints,
+                          rows_pattern,
+                          &selection);
+    SparseMatrix<double> rows(rows_pattern);
+    assemble_stiffness_matrix(discretization,
+                              material,
+                              constraints,
+                              rows,
+                              &selection);
+
+    double       entry_difference = 0.;
+    std::size_t  owned_entries    = 0;
+    unsigned int constrained_rows = 0, rows_of_other_length = 0;
+    for (const auto i : owned)
+      {
+        owned_entries += pattern.row_length(i);
+        constrained_rows += constraints.is_constrained(i);
+        rows_of_other_length +=
+          rows_pattern.row_length(i) != pattern.row_length(i);
+        for (auto entry = stiffness.begin(i); entry != stiffness.end(i);
+             ++entry)
+          entry_difference =
+            std::max(entry_difference,
+                     std::abs(rows.el(i, entry->column()) - entry->value()));
+      }
+    double other_rows_norm = 0.;
+    for (types::global_dof_index i = 0; i < rows.m(); ++i)
+      if (!owned.is_element(i))
+        other_rows_norm += std::abs(rows.diag_element(i));
+    std::cout << discretization.name() << ": rank " << rank << " builds "
+              << owned.n_elements() << " rows (" << constrained_rows
+              << " constrained), " << rows_pattern.n_nonzero_elements()
+              << " of the serial pattern's " << pattern.n_nonzero_elements()
+              << " entries; entries differ by " << entry_difference
+              << std::endl;
+    CHECK_TRUE(Utilities::MPI::sum(constrained_rows, communicator) > 0);
+    CHECK_CLOSE_ABS(double(rows_pattern.n_nonzero_elements()),
+                    double(owned_entries + rows.m() - owned.n_elements()),
+                    0.);
+    CHECK_CLOSE_ABS(rows_of_other_length, 0, 0);
+    CHECK_CLOSE_ABS(entry_difference, 0., 0.);
+    CHECK_CLOSE_ABS(other_rows_norm, 0., 0.);
+  }
+
   // Everything a body is built from, in the renumbered discretisation,
   // equals the original's with the unknowns permuted, bit for bit.
   void
@@ -357,6 +442,7 @@ main(int argc, char **argv)
     {
       check_partitions(*make_discretization(iga, 5));
       check_distributed_product(*make_discretization(iga, 3), MPI_COMM_WORLD);
+      check_row_selection(*make_discretization(iga, 3), MPI_COMM_WORLD);
       check_renumbering(iga);
     }
   return isoimpact_tests::report();
