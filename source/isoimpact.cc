@@ -79,6 +79,20 @@ using namespace dealii;
 
 namespace isoimpact
 {
+  namespace
+  {
+    // Several MPI ranks: returns once every rank has called it.
+    void
+    wait_for_all_ranks()
+    {
+      if (n_world_ranks() > 1)
+        {
+          const int ierr = MPI_Barrier(MPI_COMM_WORLD);
+          AssertThrowMPI(ierr);
+        }
+    }
+  } // namespace
+
   // @sect3{The <code>ImpactProgram</code> class}
   //
   // As in step-48, the class holds the pieces of one explicit dynamics run:
@@ -264,13 +278,26 @@ namespace isoimpact
   void
   ImpactProgram::open_output()
   {
-    if (!is_root)
-      return;
     const std::string &directory = parameters.output_directory;
+    // Several MPI ranks: every rank writes the ParaView pieces of its own
+    // cells into the directory rank 0 prepares.
+    const auto make_solution_writer = [&]() {
+      solution_writer =
+        std::make_unique<SolutionWriter>(directory,
+                                         parameters.vtu_subdivisions,
+                                         parameters.vtu_higher_order,
+                                         parameters.vtu_compression);
+    };
+    if (!is_root)
+      {
+        wait_for_all_ranks(); // the directory, below
+        make_solution_writer();
+        return;
+      }
     std::filesystem::create_directories(directory);
     const std::regex owned(
       "(parameters\\.prm|history\\.csv|summary\\.json|solution\\.pvd|"
-      "solution_[0-9]+\\.pvtu|body[0-9]+_[0-9]+\\.vtu|"
+      "solution_[0-9]+\\.pvtu|body[0-9]+_[0-9]+(\\.[0-9]+)?\\.vtu|"
       "contact_pressure_t[0-9.]+\\.csv)(\\.tmp)?");
     unsigned int n_removed = 0;
     for (const auto &entry : std::filesystem::directory_iterator(directory))
@@ -284,11 +311,8 @@ namespace isoimpact
       parameter_file,
       directory + "/parameters.prm",
       std::filesystem::copy_options::overwrite_existing);
-    solution_writer =
-      std::make_unique<SolutionWriter>(directory,
-                                       parameters.vtu_subdivisions,
-                                       parameters.vtu_higher_order,
-                                       parameters.vtu_compression);
+    wait_for_all_ranks();
+    make_solution_writer();
     history = std::make_unique<HistoryWriter>(directory + "/history.csv",
                                               parameter_file,
                                               parameters,
@@ -372,16 +396,14 @@ namespace isoimpact
     if (write_solution)
       {
         const Lap lap(paraview_time);
-        // Several ranks: each holds its own rows of the state; rank 0
-        // receives the rest.
+        // Several ranks: each holds its own rows of the state and receives
+        // the rest, then writes the pieces of its own cells.
         for (auto *body : scene.body_pointers())
           body->gather_state();
-        if (is_root)
-          solution_writer->write(
-            scene.body_pointers(),
-            step.time,
-            contact_pressure_nodal_values(scene,
-                                          integrator->contact_results()));
+        solution_writer->write(
+          scene.body_pointers(),
+          step.time,
+          contact_pressure_nodal_values(scene, integrator->contact_results()));
       }
     // The pressure along the contact surface at a requested time.
     if (write_profile && is_root)
@@ -527,6 +549,9 @@ namespace isoimpact
       history.reset(); // closes history.csv
       if (solution_writer)
         solution_writer->finish(); // the last ParaView files
+      // Several ranks: summary.json, written last, follows every rank's
+      // pieces.
+      wait_for_all_ranks();
     }
 
     // summary.json holds the figures a user compares between runs: peaks,

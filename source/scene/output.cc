@@ -255,6 +255,29 @@ namespace isoimpact
       data_out.add_data_vector(displacement, stress_fields);
       PressurePostprocessor pressure_field;
       data_out.add_data_vector(pressure, pressure_field);
+      // Several MPI ranks: this rank's cells (UnknownExchange::owns_cell).
+      const UnknownExchange &exchange = body.exchange();
+      if (exchange.is_distributed())
+        {
+          using cell_iterator = DataOut<2>::cell_iterator;
+          const auto first_from =
+            [&exchange](const Triangulation<2>::active_cell_iterator &start,
+                        const Triangulation<2>                       &mesh) {
+              for (auto cell = start; cell != mesh.end(); ++cell)
+                if (exchange.owns_cell(cell->active_cell_index()))
+                  return cell_iterator(cell);
+              return cell_iterator(mesh.end());
+            };
+          data_out.set_cell_selection(
+            [first_from](const Triangulation<2> &mesh) {
+              return first_from(mesh.begin_active(), mesh);
+            },
+            [first_from](const Triangulation<2> &mesh,
+                         const cell_iterator    &previous) {
+              Triangulation<2>::active_cell_iterator next = previous;
+              return first_from(++next, mesh);
+            });
+        }
       data_out.build_patches(disc.mapping(),
                              n_subdivisions,
                              DataOut<2>::curved_inner_cells);
@@ -398,7 +421,11 @@ namespace isoimpact
       for (unsigned int i = 0; i < m; ++i)
         component[i] = fe.system_to_component_index(i).first;
 
-      piece.n_cells    = disc.triangulation().n_active_cells();
+      // Several MPI ranks: this rank's cells (UnknownExchange::owns_cell).
+      const UnknownExchange &exchange = body.exchange();
+      piece.n_cells                   = 0;
+      for (unsigned int c = 0; c < disc.triangulation().n_active_cells(); ++c)
+        piece.n_cells += exchange.owns_cell(c);
       auto &point_data = piece.point_data;
       auto &points     = piece.points;
       point_data.resize(point_arrays(true).size());
@@ -416,6 +443,11 @@ namespace isoimpact
       unsigned int                         index = 0;
       for (const auto &cell : disc.dof_handler().active_cell_iterators())
         {
+          if (!exchange.owns_cell(cell->active_cell_index()))
+            {
+              ++index;
+              continue;
+            }
           if (fe_values)
             scratch = cell_shapes(*fe_values, disc, cell);
           const CellShapes &shapes =
@@ -631,24 +663,42 @@ namespace isoimpact
                         const std::vector<Vector<double>>   &contact_pressures)
   {
     AssertDimension(contact_pressures.size(), bodies.size());
-    const std::string        number = Utilities::int_to_string(counter++, 4);
-    std::vector<std::string> pieces;
+    const std::string number = Utilities::int_to_string(counter++, 4);
+    // One piece per body, and on several MPI ranks per body and rank
+    // (<body>_<number>.<rank>.vtu): each rank writes its own cells' pieces,
+    // rank 0 the records that join them.
+    const unsigned int n_ranks    = n_world_ranks();
+    const auto         piece_name = [&](const ElasticBody<2> &body,
+                                const unsigned int    rank) {
+      return body.name() + "_" + number +
+             (n_ranks > 1 ? "." + std::to_string(rank) : std::string()) +
+             ".vtu";
+    };
+    std::vector<std::string> pieces, all_pieces;
     for (const auto *body : bodies)
-      pieces.push_back(body->name() + "_" + number + ".vtu");
-    const std::string pvtu = "solution_" + number + ".pvtu";
+      {
+        pieces.push_back(piece_name(*body, world_rank()));
+        for (unsigned int rank = 0; rank < n_ranks; ++rank)
+          all_pieces.push_back(piece_name(*body, rank));
+      }
+    const bool        writes_records = world_rank() == 0;
+    const std::string pvtu           = "solution_" + number + ".pvtu";
     times_and_names.emplace_back(time, pvtu);
 
     // Every file by rename: a stopped run leaves complete files (and at most
     // one .tmp per file being written).
     const auto write_records = [directory = directory,
-                                pieces,
+                                all_pieces,
                                 pvtu,
+                                writes_records,
                                 times_and_names = times_and_names,
                                 higher_order    = higher_order]() {
+      if (!writes_records)
+        return;
       write_by_rename(directory + "/" + pvtu, [&](std::ostream &record) {
         try
           {
-            write_pvtu(record, pieces, higher_order);
+            write_pvtu(record, all_pieces, higher_order);
           }
         catch (const ExceptionBase &)
           {

@@ -4,6 +4,11 @@ column's largest value), and over the whole impact the impulse, the contact
 duration and the force trend peak to 1e-4, the energy balance and the bodies'
 masses equal. The raw penalty force chatters, so later steps may drift apart
 by the growth of round-off; the runs here happen to stay much closer.
+Where the scene writes ParaView output, the 2-rank run's last .pvtu record
+lists one piece per body and rank, every piece holds cells, and the pieces
+together hold the serial run's cells: the same number of cells and points,
+and the same points with the same displacement (rows sorted, to 1e-12 of the
+largest value).
 
 Usage: mpi_history.py PROGRAM MPIRUN WORKDIR CASE [CASE ...], a CASE being
 a parameter file, optionally followed by edits:
@@ -25,6 +30,31 @@ import isoimpact_results  # noqa: E402
 
 program, mpirun, workdir = sys.argv[1], sys.argv[2], sys.argv[3]
 os.makedirs(workdir, exist_ok=True)
+
+
+def read_last_pvtu(out):
+    """The last record of solution.pvd: its pieces, and the joined grid's
+    cells, points and sorted rows (x, y, u_x, u_y)."""
+    import xml.etree.ElementTree as ET
+    import vtk
+    from vtk.util.numpy_support import vtk_to_numpy
+    pvd = ET.parse(os.path.join(out, "solution.pvd")).getroot()
+    last = [d.attrib["file"] for d in pvd.iter("DataSet")][-1]
+    pieces = [p.attrib["Source"] for p in ET.parse(os.path.join(out, last)).getroot().iter("Piece")]
+    piece_cells = []
+    for piece in pieces:
+        reader = vtk.vtkXMLUnstructuredGridReader()
+        reader.SetFileName(os.path.join(out, piece))
+        reader.Update()
+        piece_cells.append(reader.GetOutput().GetNumberOfCells())
+    reader = vtk.vtkXMLPUnstructuredGridReader()
+    reader.SetFileName(os.path.join(out, last))
+    reader.Update()
+    grid = reader.GetOutput()
+    rows = np.hstack([vtk_to_numpy(grid.GetPoints().GetData())[:, :2],
+                      vtk_to_numpy(grid.GetPointData().GetArray("displacement_m"))[:, :2]])
+    rows = rows[np.lexsort(rows.T[::-1])]
+    return pieces, piece_cells, grid.GetNumberOfCells(), grid.GetNumberOfPoints(), rows
 
 
 def run(prm, edits, name, ranks):
@@ -80,4 +110,20 @@ for case in sys.argv[4:]:
                len(serial_masses) == len(parallel_masses) >= 1)
     for b, (m1, m2) in enumerate(zip(serial_masses, parallel_masses)):
         check_close(f"{label}: mass of body {b + 1} [kg/m]", m2, m1, 1e-12)
+    serial_out = os.path.join(workdir, label + "_1_rank")
+    if os.path.exists(os.path.join(serial_out, "solution.pvd")):
+        pieces1, _, cells1, points1, rows1 = read_last_pvtu(serial_out)
+        pieces2, piece_cells, cells2, points2, rows2 = read_last_pvtu(
+            os.path.join(workdir, label + "_2_ranks"))
+        print(f"{label}: last record: serial {pieces1}, 2 ranks {pieces2} with "
+              f"{piece_cells} cells")
+        check_close(f"{label}: pieces of the 2-rank record (one per body and rank)",
+                    len(pieces2), 2 * len(pieces1), 0)
+        check_true(f"{label}: every piece holds cells", min(piece_cells) > 0)
+        check_close(f"{label}: cells of the 2-rank pieces", cells2, cells1, 0)
+        check_close(f"{label}: points of the 2-rank pieces", points2, points1, 0)
+        scale = np.max(np.abs(rows1), axis=0)
+        check_close(f"{label}: max |difference| of the sorted points and displacements "
+                    f"/ the largest value", np.max(np.abs(rows2 - rows1) / scale) if
+                    rows1.shape == rows2.shape else 1., 0., 1e-12, relative=False)
 report()

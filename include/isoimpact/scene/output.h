@@ -47,7 +47,10 @@ namespace isoimpact
                    const bool         compress = false);
 
     // Writes body<i>_<NNNN>.vtu for each body, solution_<NNNN>.pvtu and
-    // rewrites solution.pvd. Returns the name of the .pvtu file.
+    // rewrites solution.pvd. Returns the name of the .pvtu file. On several
+    // MPI ranks every rank calls it with the whole state (gather_state())
+    // and writes the pieces of its own cells, body<i>_<NNNN>.<rank>.vtu;
+    // rank 0 writes the records, which list every rank's pieces.
     // `contact_pressures` (per body, see contact_pressure_nodal_values())
     // gives the point field contact_pressure_Pa: on the contact surface it
     // is the consistent contact pressure (the interior functions vanish
