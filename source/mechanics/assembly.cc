@@ -4,10 +4,12 @@
 
 #include <deal.II/fe/fe_values.h>
 
+#include <deal.II/lac/affine_constraints.templates.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 
 #include <isoimpact/mechanics/assembly.h>
 
+#include <optional>
 #include <sstream>
 
 using namespace dealii;
@@ -57,13 +59,64 @@ namespace isoimpact
 
   namespace
   {
+    // The rows of a SparseMatrix that a RowSelection selects, as a matrix
+    // that AffineConstraints::distribute_local_to_global() writes to: it
+    // condenses as for the whole matrix (the same entries, added in the same
+    // order: the same bits) and hands each row over; the rows not selected
+    // are dropped (the pattern lacks them).
+    class SelectedRows
+    {
+    public:
+      using value_type = double;
+      using size_type  = types::global_dof_index;
+
+      SelectedRows(SparseMatrix<double> &matrix, const RowSelection &selection)
+        : matrix(matrix)
+        , selection(selection)
+      {}
+      // Polymorphic: deal.II tries a dynamic_cast to SparseMatrix.
+      virtual ~SelectedRows() = default;
+      size_type
+      m() const
+      {
+        return matrix.m();
+      }
+      size_type
+      n() const
+      {
+        return matrix.n();
+      }
+      void
+      add(const size_type row, const size_type column, const double value)
+      {
+        if (selection.rows(row))
+          matrix.add(row, column, value);
+      }
+      void
+      add(const size_type  row,
+          const size_type  n_columns,
+          const size_type *columns,
+          const double    *values,
+          const bool       elide_zero_values,
+          const bool       columns_are_sorted)
+      {
+        if (selection.rows(row))
+          matrix.add(row,
+                     n_columns,
+                     columns,
+                     values,
+                     elide_zero_values,
+                     columns_are_sorted);
+      }
+
+    private:
+      SparseMatrix<double> &matrix;
+      const RowSelection   &selection;
+    };
+
     // Loops over cells with FEValues and hands the local matrix of `local`
-    // to the constraints for condensation into the global matrix.
-    // With a selection, the selected rows of the cells it accepts: the
-    // condensation of constraints u_i = 0 done here (deal.II's would write
-    // the other rows, which the pattern lacks), with the same additions,
-    // so the same bits: free rows get the free columns' entries, a
-    // constrained row the diagonal deal.II gives it.
+    // to the constraints for condensation into the global matrix; with a
+    // selection, into its rows from the cells it accepts.
     template <int dim, typename LocalAssembler>
     void
     assemble_matrix(const Discretization<dim>       &discretization,
@@ -73,12 +126,6 @@ namespace isoimpact
                     const LocalAssembler            &local,
                     const RowSelection              *selection = nullptr)
     {
-      if (selection)
-        for (const auto &line : constraints.get_lines())
-          AssertThrow(line.entries.empty() && line.inhomogeneity == 0.,
-                      ExcMessage("the rows of a rank are assembled with "
-                                 "constraints u_i = 0 alone (no hanging "
-                                 "nodes, no inhomogeneities)"));
       const auto                          &fe = discretization.fe();
       FEValues<dim>                        fe_values(discretization.mapping(),
                               fe,
@@ -88,6 +135,9 @@ namespace isoimpact
                                      fe.n_dofs_per_cell());
       std::vector<types::global_dof_index> indices;
       matrix = 0.;
+      std::optional<SelectedRows> selected_rows;
+      if (selection)
+        selected_rows.emplace(matrix, *selection);
       for (const auto &cell :
            discretization.dof_handler().active_cell_iterators())
         {
@@ -97,42 +147,14 @@ namespace isoimpact
           cell_matrix = 0.;
           local(fe_values, cell_matrix);
           discretization.get_dof_indices(cell, indices);
-          if (!selection)
-            {
-              constraints.distribute_local_to_global(cell_matrix,
-                                                     indices,
-                                                     matrix);
-              continue;
-            }
-          const unsigned int n = indices.size();
-          // deal.II's diagonal of a constrained row (set_matrix_diagonals):
-          // |K_ii| of the cell, else the mean |diagonal|, else l1 / n, else 1.
-          double average_diagonal = 0.;
-          for (unsigned int i = 0; i < n; ++i)
-            average_diagonal += std::abs(cell_matrix(i, i));
-          average_diagonal /= n;
-          if (average_diagonal == 0.)
-            {
-              average_diagonal = cell_matrix.l1_norm() / n;
-              if (average_diagonal == 0.)
-                average_diagonal = 1.;
-            }
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              if (!selection->rows(indices[i]))
-                continue;
-              if (constraints.is_constrained(indices[i]))
-                {
-                  const double diagonal = std::abs(cell_matrix(i, i));
-                  matrix.add(indices[i],
-                             indices[i],
-                             diagonal != 0. ? diagonal : average_diagonal);
-                  continue;
-                }
-              for (unsigned int j = 0; j < n; ++j)
-                if (!constraints.is_constrained(indices[j]))
-                  matrix.add(indices[i], indices[j], cell_matrix(i, j));
-            }
+          if (selected_rows)
+            constraints.distribute_local_to_global(cell_matrix,
+                                                   indices,
+                                                   *selected_rows);
+          else
+            constraints.distribute_local_to_global(cell_matrix,
+                                                   indices,
+                                                   matrix);
         }
     }
 

@@ -70,23 +70,36 @@ namespace isoimpact
                                " cannot run on several MPI ranks with the "
                                "consistent mass: that needs a lumped mass "
                                "(row-sum or HRZ)"));
-        for (const auto &line : body_constraints.get_lines())
-          AssertThrow(line.entries.empty() && line.inhomogeneity == 0.,
-                      ExcMessage(body_name +
-                                 " cannot run on several MPI ranks with "
-                                 "hanging-node constraints (local "
-                                 "refinement)"));
         partition.emplace(disc, n_ranks);
         row_exchange =
           UnknownExchange(*partition, ranks->communicator, ranks->shared);
         const unsigned int rank = row_exchange.this_rank();
-        owned_rows =
-          RowSelection{[this](const types::global_dof_index i) {
-                         return row_exchange.is_owned(i);
-                       },
-                       [&partition, rank](const unsigned int cell) {
-                         return partition->is_assembly_cell(cell, rank);
-                       }};
+        // The cells that contribute to the owned rows: those that carry an
+        // owned unknown and, with hanging nodes, those that carry an
+        // unknown constrained to an owned one.
+        std::vector<unsigned char> contributes(
+          disc.triangulation().n_active_cells(),
+          0);
+        std::vector<types::global_dof_index> indices;
+        for (const auto &cell : disc.dof_handler().active_cell_iterators())
+          {
+            const unsigned int c = cell->active_cell_index();
+            contributes[c]       = partition->is_assembly_cell(c, rank);
+            if (contributes[c] || body_constraints.n_constraints() == 0)
+              continue;
+            disc.get_dof_indices(cell, indices);
+            for (const auto i : indices)
+              if (const auto *entries =
+                    body_constraints.get_constraint_entries(i))
+                for (const auto &[master, weight] : *entries)
+                  contributes[c] |= row_exchange.is_owned(master);
+          }
+        owned_rows = RowSelection{[this](const types::global_dof_index i) {
+                                    return row_exchange.is_owned(i);
+                                  },
+                                  [contributes](const unsigned int cell) {
+                                    return contributes[cell] != 0;
+                                  }};
       }
 
     make_sparsity_pattern(disc,
@@ -132,6 +145,9 @@ namespace isoimpact
         for (const auto &line : body_constraints.get_lines())
           if (!line.entries.empty() || line.inhomogeneity != 0.)
             fused_lumped_step = false;
+        // Several ranks without the fused step (hanging nodes): every rank
+        // computes the whole state from the whole K u.
+        replicated_state = row_exchange.is_distributed() && !fused_lumped_step;
         if (fused_lumped_step)
           {
             step_inverse_mass = inverse_lumped_mass;
@@ -270,6 +286,7 @@ namespace isoimpact
     body_constraints.condense(f);
     stiffness_times_u.reinit(u.size(), true);
     stiffness.vmult(stiffness_times_u, u);
+    row_exchange.gather(stiffness_times_u); // several ranks: see above
     f -= stiffness_times_u;
     body_constraints.set_zero(f);
     solve_mass(a, f);
@@ -437,6 +454,13 @@ namespace isoimpact
   }
 
   template <int dim>
+  bool
+  ElasticBody<dim>::state_is_replicated() const
+  {
+    return replicated_state;
+  }
+
+  template <int dim>
   const UnknownExchange &
   ElasticBody<dim>::exchange() const
   {
@@ -449,7 +473,7 @@ namespace isoimpact
     const Vector<double> &half_step_velocity,
     const double          dt)
   {
-    if (!row_exchange.is_distributed())
+    if (!row_exchange.is_distributed() || replicated_state)
       {
         displacement.add(dt, half_step_velocity);
         return;
@@ -492,6 +516,8 @@ namespace isoimpact
   void
   ElasticBody<dim>::gather_state()
   {
+    if (replicated_state)
+      return;
     row_exchange.gather(displacement);
     row_exchange.gather(velocity);
     row_exchange.gather(acceleration);

@@ -716,19 +716,14 @@ namespace isoimpact
         if (parameters.mass_redistribution)
           refuse(parameter_file,
                  "'Contact/Mass redistribution' = true" + way_out);
-        for (const auto &body : parameters.bodies)
-          if (body.geometry.local_refinements > 0)
-            refuse(parameter_file,
-                   "'Discretization/Local refinements' = " +
-                     std::to_string(body.geometry.local_refinements) + way_out +
-                     ", or set it to 0");
       }
     check_start_positions(parameters, parameter_file);
     if (parameters.approach_law != "none")
       check_reference_scene(parameters, parameter_file);
 
-    // Memory, before anything is allocated. Every rank holds the mesh,
-    // the matrices and the state.
+    // Memory, before anything is allocated. Every rank holds the mesh and
+    // the state, and its rows of the stiffness: counted as a whole scene per
+    // rank (an upper bound).
     auto [bytes, cells] = estimated_memory_and_cells(parameters);
     bytes *= n_ranks;
     std::ifstream meminfo("/proc/meminfo");

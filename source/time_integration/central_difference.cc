@@ -44,13 +44,14 @@ namespace isoimpact
         damped_contact |= interaction.contact->damping_ratio() > 0.;
       }
     for (unsigned int b = 0; b < bodies.size(); ++b)
-      {
-        ghost_vectors.emplace_back(&bodies[b]->exchange(),
-                                   &bodies[b]->displacement);
-        if (damped_contact)
+      if (!bodies[b]->state_is_replicated())
+        {
           ghost_vectors.emplace_back(&bodies[b]->exchange(),
-                                     &half_step_velocity[b]);
-      }
+                                     &bodies[b]->displacement);
+          if (damped_contact)
+            ghost_vectors.emplace_back(&bodies[b]->exchange(),
+                                       &half_step_velocity[b]);
+        }
     for (const auto &interaction : contacts)
       {
         std::vector<unsigned int> involved = {interaction.first_body};

@@ -42,10 +42,12 @@ namespace isoimpact
 
   /**
    * Issue 13: the rows of a matrix that one MPI rank builds, those of the
-   * unknowns it owns (`rows`), from the cells that carry one of them
-   * (`cells`). The other rows hold a zero diagonal entry only. The rows
-   * built have the entries of the whole matrix, bit for bit. Constraints
-   * must be of the form u_i = 0 alone (no hanging nodes).
+   * unknowns it owns (`rows`), from the cells that contribute to them
+   * (`cells`: those that carry one of them, and with hanging nodes those
+   * that carry an unknown constrained to one of them). The other rows hold
+   * a zero diagonal entry only. The rows built have the entries of the
+   * whole matrix, condensed by deal.II as for the whole matrix: bit for
+   * bit.
    */
   struct RowSelection
   {

@@ -44,9 +44,11 @@ namespace isoimpact
      * displacement must then receive its ghosts (UnknownExchange::
      * update_ghost_values) before the next step. The state vectors and the
      * masses stay whole on every rank. The energies of a step are summed
-     * over the ranks (sum_step_energies, or when first read). Needs a
-     * lumped mass and constraints u_i = 0 alone (no local refinement), and
-     * no mass redistribution or penalty masses; throws otherwise.
+     * over the ranks (sum_step_energies, or when first read). With hanging
+     * nodes (local refinement) the ranks split K u only and every rank
+     * computes the whole state (state_is_replicated()). Needs a lumped
+     * mass, and no mass redistribution or penalty masses; throws
+     * otherwise.
      */
     ElasticBody(const std::string                   &name,
                 std::unique_ptr<Discretization<dim>> discretization,
@@ -215,6 +217,11 @@ namespace isoimpact
     // The rows this rank computes and its ghosts (see the constructor).
     const UnknownExchange &
     exchange() const;
+    // On several ranks with hanging nodes (no fused step): every rank
+    // computes the whole state from K u, whose rows the ranks compute and
+    // gather every step; no ghost values are needed.
+    bool
+    state_is_replicated() const;
     // u += dt v: on one process the whole displacement; on several ranks
     // the owned entries (the ghosts must then come from their owners).
     void
@@ -295,6 +302,7 @@ namespace isoimpact
     bool                   penalty_momentum_switching = true;
     // The rows this rank computes and its ghosts (serial: all, none).
     UnknownExchange row_exchange;
+    bool            replicated_state = false;
   };
 } // namespace isoimpact
 
