@@ -65,11 +65,6 @@ namespace isoimpact
       {
         const unsigned int n_ranks =
           Utilities::MPI::n_mpi_processes(ranks->communicator);
-        AssertThrow(scheme != MassScheme::consistent,
-                    ExcMessage(body_name +
-                               " cannot run on several MPI ranks with the "
-                               "consistent mass: that needs a lumped mass "
-                               "(row-sum or HRZ)"));
         partition.emplace(disc, n_ranks);
         row_exchange =
           UnknownExchange(*partition, ranks->communicator, ranks->shared);
@@ -115,7 +110,12 @@ namespace isoimpact
 
     if (scheme == MassScheme::consistent)
       {
-        consistent_mass.reinit(sparsity_pattern);
+        // Several ranks: the mass whole on every rank (its factor solves the
+        // whole M a = f on each), on the whole pattern.
+        if (owned_rows)
+          make_sparsity_pattern(disc, body_constraints, mass_sparsity_pattern);
+        consistent_mass.reinit(owned_rows ? mass_sparsity_pattern :
+                                            sparsity_pattern);
         assemble_consistent_mass_matrix(disc,
                                         material.density,
                                         body_constraints,
@@ -145,9 +145,7 @@ namespace isoimpact
         for (const auto &line : body_constraints.get_lines())
           if (!line.entries.empty() || line.inhomogeneity != 0.)
             fused_lumped_step = false;
-        // Several ranks without the fused step (hanging nodes): every rank
-        // computes the whole state from the whole K u.
-        replicated_state = row_exchange.is_distributed() && !fused_lumped_step;
+
         if (fused_lumped_step)
           {
             step_inverse_mass = inverse_lumped_mass;
@@ -155,6 +153,10 @@ namespace isoimpact
               step_inverse_mass(line.index) = 0.;
           }
       }
+
+    // Several ranks without the fused step (consistent mass, hanging
+    // nodes): every rank computes the whole state from the whole K u.
+    replicated_state = row_exchange.is_distributed() && !fused_lumped_step;
 
     const types::global_dof_index n = disc.n_dofs();
     displacement.reinit(n);

@@ -707,10 +707,6 @@ namespace isoimpact
           std::to_string(n_ranks) +
           " ranks); run it on one process (without mpirun, threads with "
           "DEAL_II_NUM_THREADS)";
-        if (parameters.mass_scheme == MassScheme::consistent)
-          refuse(parameter_file,
-                 "'Mass matrix/Scheme' = consistent" + way_out +
-                   ", or choose row-sum or HRZ");
         if (parameters.bipenalty)
           refuse(parameter_file, "'Contact/Bipenalty' = true" + way_out);
         if (parameters.mass_redistribution)

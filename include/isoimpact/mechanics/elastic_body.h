@@ -44,11 +44,11 @@ namespace isoimpact
      * displacement must then receive its ghosts (UnknownExchange::
      * update_ghost_values) before the next step. The state vectors and the
      * masses stay whole on every rank. The energies of a step are summed
-     * over the ranks (sum_step_energies, or when first read). With hanging
-     * nodes (local refinement) the ranks split K u only and every rank
-     * computes the whole state (state_is_replicated()). Needs a lumped
-     * mass, and no mass redistribution or penalty masses; throws
-     * otherwise.
+     * over the ranks (sum_step_energies, or when first read). With the
+     * consistent mass or hanging nodes (local refinement) the ranks split
+     * K u only and every rank computes the whole state
+     * (state_is_replicated()), the consistent mass solved whole on each.
+     * No mass redistribution or penalty masses; throws otherwise.
      */
     ElasticBody(const std::string                   &name,
                 std::unique_ptr<Discretization<dim>> discretization,
@@ -217,9 +217,9 @@ namespace isoimpact
     // The rows this rank computes and its ghosts (see the constructor).
     const UnknownExchange &
     exchange() const;
-    // On several ranks with hanging nodes (no fused step): every rank
-    // computes the whole state from K u, whose rows the ranks compute and
-    // gather every step; no ghost values are needed.
+    // On several ranks with the consistent mass or hanging nodes (no fused
+    // step): every rank computes the whole state from K u, whose rows the
+    // ranks compute and gather every step; no ghost values are needed.
     bool
     state_is_replicated() const;
     // u += dt v: on one process the whole displacement; on several ranks
@@ -272,8 +272,11 @@ namespace isoimpact
     dealii::SparsityPattern              sparsity_pattern;
     dealii::SparseMatrix<double>         stiffness;
     dealii::SparseMatrix<double>         consistent_mass;
-    dealii::Vector<double>               lumped_mass;
-    dealii::Vector<double>               inverse_lumped_mass;
+    // Several ranks: the whole pattern of the consistent mass (the
+    // stiffness has this rank's rows only).
+    dealii::SparsityPattern mass_sparsity_pattern;
+    dealii::Vector<double>  lumped_mass;
+    dealii::Vector<double>  inverse_lumped_mass;
     dealii::PreconditionJacobi<dealii::SparseMatrix<double>>
                                          mass_preconditioner;
     std::unique_ptr<ComponentMassSolver> mass_solver;
