@@ -156,7 +156,8 @@ namespace isoimpact
 
     // Several ranks without the fused step (consistent mass, hanging
     // nodes): every rank computes the whole state from the whole K u.
-    replicated_state = row_exchange.is_distributed() && !fused_lumped_step;
+    replicated_state = row_exchange.is_distributed() &&
+                       (!fused_lumped_step || ranks->whole_state);
 
     const types::global_dof_index n = disc.n_dofs();
     displacement.reinit(n);
@@ -303,7 +304,7 @@ namespace isoimpact
     const double    dt,
     const bool      form_whole_step_state)
   {
-    if (!fused_lumped_step)
+    if (!fused_lumped_step || replicated_state)
       {
         // Resets step_energies: the separate functions compute them.
         compute_acceleration(displacement, f, acceleration);
@@ -332,7 +333,7 @@ namespace isoimpact
   bool
   ElasticBody<dim>::step_zeroes_force() const
   {
-    return fused_lumped_step;
+    return fused_lumped_step && !replicated_state;
   }
 
   template <int dim>
@@ -722,9 +723,10 @@ namespace isoimpact
     AssertThrow(scheme != MassScheme::consistent,
                 ExcMessage("penalty masses (bipenalty) need a lumped mass; " +
                            body_name + " has the consistent mass"));
-    AssertThrow(!row_exchange.is_distributed(),
+    AssertThrow(!row_exchange.is_distributed() || replicated_state,
                 ExcMessage("penalty masses (bipenalty) of " + body_name +
-                           " are not supported on several MPI ranks"));
+                           " on several MPI ranks need the whole state on "
+                           "every rank (RankDistribution::whole_state)"));
     if (penalty_scratch.size() != n_dofs())
       {
         penalty_scratch.reinit(n_dofs());

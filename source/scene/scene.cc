@@ -426,7 +426,10 @@ namespace isoimpact
         std::optional<RankDistribution> ranks;
         if (n_world_ranks() > 1)
           {
-            ranks.emplace(RankDistribution{MPI_COMM_WORLD, {}});
+            // The bipenalty changes the state where the penalty masses
+            // change: every rank computes the whole state.
+            ranks.emplace(
+              RankDistribution{MPI_COMM_WORLD, {}, parameters.bipenalty});
             for (const auto &segment : discretization->boundary_segments(
                    BodyGeometry::curved_boundary_id))
               for (const auto &node : segment.node_dofs)
@@ -707,8 +710,6 @@ namespace isoimpact
           std::to_string(n_ranks) +
           " ranks); run it on one process (without mpirun, threads with "
           "DEAL_II_NUM_THREADS)";
-        if (parameters.bipenalty)
-          refuse(parameter_file, "'Contact/Bipenalty' = true" + way_out);
         if (parameters.mass_redistribution)
           refuse(parameter_file,
                  "'Contact/Mass redistribution' = true" + way_out);

@@ -279,27 +279,28 @@ if os.path.exists("/dev/full"):
     check_true("--print-parameters > /dev/full: says the write failed",
                "writing the default parameters" in run.stderr and "failed" in run.stderr)
 # Several MPI ranks: a scene the distributed step does not support yet
-# (bipenalty) is refused before any output, by every rank alike, with the
+# (mass redistribution) is refused before any output, by every rank alike, with the
 # parameter, its value and the number of ranks named (exit 2). The runs that
 # work on 2 ranks are checked by mpi_history.py.
 mpirun = shutil.which("mpirun")
 check_true("mpirun is installed (scripts/setup.sh installs openmpi-bin)", mpirun is not None)
 if mpirun:
-    bipenalty = os.path.join(workdir, "bipenalty_for_mpi.prm")
-    edit_prm(good_prm, bipenalty, {"Output/Directory": "mpi_output",
-                                   "Contact/Bipenalty": "true"})
+    redistribution = os.path.join(workdir, "redistribution_for_mpi.prm")
+    edit_prm(good_prm, redistribution, {"Output/Directory": "mpi_output",
+                                        "Contact/Mass redistribution": "true"})
     shutil.rmtree(os.path.join(workdir, "mpi_output"), ignore_errors=True)
     run = subprocess.run([mpirun, "--allow-run-as-root", "--oversubscribe", "-np", "2", program,
-                          bipenalty], cwd=workdir, capture_output=True, text=True)
-    print(f"--- mpirun -np 2, bipenalty: exit {run.returncode}\n{run.stderr.strip()[:600]}")
-    check_true("mpirun -np 2, bipenalty: exit 2", run.returncode == 2)
-    check_true("mpirun -np 2, bipenalty: message names the file, the parameter, "
+                          redistribution], cwd=workdir, capture_output=True, text=True)
+    print(f"--- mpirun -np 2, mass redistribution: exit {run.returncode}\n{run.stderr.strip()[:600]}")
+    check_true("mpirun -np 2, mass redistribution: exit 2", run.returncode == 2)
+    check_true("mpirun -np 2, mass redistribution: message names the file, the parameter, "
                "its value and the 2 ranks",
-               bipenalty in run.stderr and "'Contact/Bipenalty' = true" in run.stderr
+               redistribution in run.stderr
+               and "'Contact/Mass redistribution' = true" in run.stderr
                and "2 ranks" in run.stderr)
-    check_true("mpirun -np 2, bipenalty: said once (by rank 0)",
-               run.stderr.count("'Contact/Bipenalty' = true") == 1)
-    check_true("mpirun -np 2, bipenalty: no output directory",
+    check_true("mpirun -np 2, mass redistribution: said once (by rank 0)",
+               run.stderr.count("'Contact/Mass redistribution' = true") == 1)
+    check_true("mpirun -np 2, mass redistribution: no output directory",
                not os.path.exists(os.path.join(workdir, "mpi_output")))
 run = subprocess.run([program, "--help"], capture_output=True, text=True)
 check_true("--help exits with 0 and shows usage", run.returncode == 0 and "usage" in run.stdout)

@@ -26,10 +26,13 @@ namespace isoimpact
 
   // Issue 13 (doc/parallel.md): the MPI ranks a body is split over, and the
   // unknowns every rank reads whole (the contact surfaces').
+  // whole_state: every rank computes the whole state (the bipenalty's
+  // penalty masses change it on the contact surfaces).
   struct RankDistribution
   {
     MPI_Comm                                     communicator;
     std::vector<dealii::types::global_dof_index> shared;
+    bool                                         whole_state = false;
   };
 
   template <int dim>
@@ -45,10 +48,11 @@ namespace isoimpact
      * update_ghost_values) before the next step. The state vectors and the
      * masses stay whole on every rank. The energies of a step are summed
      * over the ranks (sum_step_energies, or when first read). With the
-     * consistent mass or hanging nodes (local refinement) the ranks split
-     * K u only and every rank computes the whole state
-     * (state_is_replicated()), the consistent mass solved whole on each.
-     * No mass redistribution or penalty masses; throws otherwise.
+     * consistent mass, hanging nodes (local refinement) or
+     * ranks->whole_state the ranks split K u only and every rank computes
+     * the whole state (state_is_replicated()), the consistent mass solved
+     * whole on each. No mass redistribution; penalty masses need the whole
+     * state; throws otherwise.
      */
     ElasticBody(const std::string                   &name,
                 std::unique_ptr<Discretization<dim>> discretization,
@@ -217,9 +221,10 @@ namespace isoimpact
     // The rows this rank computes and its ghosts (see the constructor).
     const UnknownExchange &
     exchange() const;
-    // On several ranks with the consistent mass or hanging nodes (no fused
-    // step): every rank computes the whole state from K u, whose rows the
-    // ranks compute and gather every step; no ghost values are needed.
+    // On several ranks with the consistent mass, hanging nodes or the
+    // whole state asked for (see the constructor): every rank computes the
+    // whole state from K u, whose rows the ranks compute and gather every step;
+    // no ghost values are needed.
     bool
     state_is_replicated() const;
     // u += dt v: on one process the whole displacement; on several ranks
