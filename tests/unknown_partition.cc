@@ -280,10 +280,7 @@ namespace
     SparseMatrix<double> stiffness(pattern);
     assemble_stiffness_matrix(discretization, material, constraints, stiffness);
 
-    const RowSelection selection{[&](const types::global_dof_index i) {
-                                   return owned.is_element(i);
-                                 },
-                                 [&](const unsigned int cell) {
+    const RowSelection selection{owned, [&](const unsigned int cell) {
                                    return partition.is_assembly_cell(cell,
                                                                      rank);
                                  }};

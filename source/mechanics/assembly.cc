@@ -26,25 +26,7 @@ namespace isoimpact
     const types::global_dof_index n = discretization.n_dofs();
     // With a selection, the dynamic pattern stores the selected rows alone
     // (and drops entries of other rows).
-    IndexSet rows(n);
-    if (selection)
-      {
-        for (types::global_dof_index i = 0; i < n;)
-          {
-            if (!selection->rows(i))
-              {
-                ++i;
-                continue;
-              }
-            types::global_dof_index end = i + 1;
-            while (end < n && selection->rows(end))
-              ++end;
-            rows.add_range(i, end);
-            i = end;
-          }
-        rows.compress();
-      }
-    DynamicSparsityPattern dsp(n, n, selection ? rows : IndexSet());
+    DynamicSparsityPattern dsp(n, n, selection ? selection->rows : IndexSet());
     std::vector<types::global_dof_index> indices;
     for (const auto &cell :
          discretization.dof_handler().active_cell_iterators())
@@ -89,7 +71,7 @@ namespace isoimpact
       void
       add(const size_type row, const size_type column, const double value)
       {
-        if (selection.rows(row))
+        if (selection.rows.is_element(row))
           matrix.add(row, column, value);
       }
       void
@@ -100,7 +82,7 @@ namespace isoimpact
           const bool       elide_zero_values,
           const bool       columns_are_sorted)
       {
-        if (selection.rows(row))
+        if (selection.rows.is_element(row))
           matrix.add(row,
                      n_columns,
                      columns,

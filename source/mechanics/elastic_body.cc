@@ -89,9 +89,7 @@ namespace isoimpact
                 for (const auto &[master, weight] : *entries)
                   contributes[c] |= row_exchange.is_owned(master);
           }
-        owned_rows = RowSelection{[this](const types::global_dof_index i) {
-                                    return row_exchange.is_owned(i);
-                                  },
+        owned_rows = RowSelection{partition->owned_unknowns(rank),
                                   [contributes](const unsigned int cell) {
                                     return contributes[cell] != 0;
                                   }};

@@ -3,6 +3,8 @@
 
 #include <deal.II/fe/fe_values.h>
 
+#include <deal.II/grid/filtered_iterator.h>
+
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
@@ -258,26 +260,11 @@ namespace isoimpact
       // Several MPI ranks: this rank's cells (UnknownExchange::owns_cell).
       const UnknownExchange &exchange = body.exchange();
       if (exchange.is_distributed())
-        {
-          using cell_iterator = DataOut<2>::cell_iterator;
-          const auto first_from =
-            [&exchange](const Triangulation<2>::active_cell_iterator &start,
-                        const Triangulation<2>                       &mesh) {
-              for (auto cell = start; cell != mesh.end(); ++cell)
-                if (exchange.owns_cell(cell->active_cell_index()))
-                  return cell_iterator(cell);
-              return cell_iterator(mesh.end());
-            };
-          data_out.set_cell_selection(
-            [first_from](const Triangulation<2> &mesh) {
-              return first_from(mesh.begin_active(), mesh);
-            },
-            [first_from](const Triangulation<2> &mesh,
-                         const cell_iterator    &previous) {
-              Triangulation<2>::active_cell_iterator next = previous;
-              return first_from(++next, mesh);
-            });
-        }
+        data_out.set_cell_selection(FilteredIterator<DataOut<2>::cell_iterator>(
+          [&exchange](const DataOut<2>::cell_iterator &cell) {
+            return cell->is_active() &&
+                   exchange.owns_cell(cell->active_cell_index());
+          }));
       data_out.build_patches(disc.mapping(),
                              n_subdivisions,
                              DataOut<2>::curved_inner_cells);

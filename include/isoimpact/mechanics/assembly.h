@@ -3,6 +3,8 @@
 #ifndef isoimpact_assembly_h
 #define isoimpact_assembly_h
 
+#include <deal.II/base/index_set.h>
+
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
@@ -51,8 +53,8 @@ namespace isoimpact
    */
   struct RowSelection
   {
-    std::function<bool(dealii::types::global_dof_index)> rows;
-    CellFilter                                           cells;
+    dealii::IndexSet rows;
+    CellFilter       cells;
   };
 
   template <int dim>
