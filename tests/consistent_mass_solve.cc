@@ -18,9 +18,18 @@
 //    which are ordered last, so both components share one factor (the u_x
 //    block's factor is its leading block); a body with no roller
 //    (Symmetry cut = false) has equal blocks and one shared factor too.
-// 4. With two threads or more each factor's elimination tree is split into
-//    two subtrees solved side by side (so checks 1 and 2 cover that path).
+// 4. Each factor's elimination tree is split into at least two groups of
+//    subtrees, solved side by side (so checks 1 and 2 cover that path),
+//    whatever the number of threads.
+// 5. On several MPI ranks (ctest consistent_mass_solve_2_ranks, one thread
+//    per rank) the scenes' bodies are split over the ranks and checks 1-4
+//    run with the ranks' split solve; the split solve of the first body's
+//    mass matrix equals one process's solve of it bit for bit (difference
+//    0; both split the tree into two groups).
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/multithread_info.h>
+
+#include <isoimpact/mechanics/assembly.h>
 
 #include <isoimpact/scene/scene.h>
 
@@ -79,21 +88,53 @@ namespace
       Scene           scene = build_scene(parameters);
       ElasticBody<2> &body  = *scene.bodies[0];
       CHECK_CLOSE(body.consistent_mass_solver()->n_factors(), 1, 0.);
-      if (MultithreadInfo::n_threads() >= 2)
-        CHECK_CLOSE(body.consistent_mass_solver()->n_parallel_subtrees(),
-                    2,
-                    0.);
+      CHECK_TRUE(body.consistent_mass_solver()->n_parallel_subtrees() >= 2);
       Vector<double>                         f(body.n_dofs());
       std::mt19937                           generator(7);
       std::uniform_real_distribution<double> uniform(-1., 1.);
       for (auto &value : f)
         value = uniform(generator);
+      const Vector<double> f_random = f;
       Vector<double> f_copy = f, a_fast(body.n_dofs()), a_cg(body.n_dofs());
       body.compute_acceleration(body.displacement, f, a_fast);
       body.use_cg_mass_solve(1e-14);
       body.compute_acceleration(body.displacement, f_copy, a_cg);
       a_fast -= a_cg;
       CHECK_CLOSE_ABS(a_fast.l2_norm() / a_cg.l2_norm(), 0., 1e-10);
+
+      // 5. The ranks' split solve against one process's.
+      if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+        {
+          const auto     &disc = body.discretization();
+          SparsityPattern pattern;
+          make_sparsity_pattern(disc, body.constraints(), pattern);
+          SparseMatrix<double> mass(pattern);
+          assemble_consistent_mass_matrix(disc,
+                                          body.material().density,
+                                          body.constraints(),
+                                          mass);
+          std::vector<unsigned char> components(disc.n_dofs());
+          for (types::global_dof_index i = 0; i < components.size(); ++i)
+            components[i] = disc.dof_component(i);
+          ComponentMassSolver serial, split;
+          serial.initialize(mass, components, MPI_COMM_SELF);
+          split.initialize(mass, components, MPI_COMM_WORLD);
+          CHECK_TRUE(split.n_parallel_subtrees() >= 2);
+          Vector<double> g = f_random, a_serial(g.size()), a_ranks(g.size());
+          body.constraints().condense(g);
+          body.constraints().set_zero(g);
+          serial.solve(a_serial, g);
+          split.solve(a_ranks, g);
+          a_ranks -= a_serial;
+          CHECK_CLOSE_ABS(a_ranks.linfty_norm(),
+                          0.,
+                          MultithreadInfo::n_threads() == 1 ?
+                            0. :
+                            1e-14 * a_serial.linfty_norm());
+          std::cout << "split solve on "
+                    << Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)
+                    << " ranks" << std::endl;
+        }
     }
 
     // 2. The force history through the impact.
@@ -128,8 +169,9 @@ namespace
 } // namespace
 
 int
-main()
+main(int argc, char **argv)
 {
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   check_scene(ISOIMPACT_TEST_PRM_DIR "/hertz_fea_hrz_coarse.prm", 2.5e-4);
   check_scene(ISOIMPACT_TEST_PRM_DIR "/hertz_iga_consistent_coarse.prm", 4e-4);
   return isoimpact_tests::report();

@@ -211,6 +211,15 @@ add_test(NAME unknown_partition_2_ranks
     $<TARGET_FILE:test_unknown_partition>)
 set_tests_properties(unknown_partition_2_ranks PROPERTIES TIMEOUT 300)
 
+# The consistent mass's solve split over 2 MPI ranks by the subtrees of its
+# elimination tree: the checks of consistent_mass_solve on the ranks, and
+# the split solve against one process's (one thread per rank: the same two
+# groups of subtrees, the same bits).
+add_test(NAME consistent_mass_solve_2_ranks
+  COMMAND ${ISOIMPACT_MPIRUN} --allow-run-as-root --oversubscribe -np 2
+    -x DEAL_II_NUM_THREADS=1 $<TARGET_FILE:test_consistent_mass_solve>)
+set_tests_properties(consistent_mass_solve_2_ranks PROPERTIES TIMEOUT 600)
+
 # The program on 2 MPI ranks against one process (issue 13), FEA Q9 and Q8,
 # IGA, HRZ, row-sum and consistent, two bodies and a rigid plane, contact
 # damping, the bipenalty, local refinement (FEA's hanging nodes, IGA's knot insertion): the

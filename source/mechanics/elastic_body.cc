@@ -108,8 +108,8 @@ namespace isoimpact
 
     if (scheme == MassScheme::consistent)
       {
-        // Several ranks: the mass whole on every rank (its factor solves the
-        // whole M a = f on each), on the whole pattern.
+        // Several ranks: the mass and its factor whole on every rank, on
+        // the whole pattern.
         if (owned_rows)
           make_sparsity_pattern(disc, body_constraints, mass_sparsity_pattern);
         consistent_mass.reinit(owned_rows ? mass_sparsity_pattern :
@@ -123,8 +123,13 @@ namespace isoimpact
         std::vector<unsigned char> components(disc.n_dofs());
         for (types::global_dof_index i = 0; i < components.size(); ++i)
           components[i] = disc.dof_component(i);
+        // Several ranks: each substitutes its own subtrees of the
+        // factors' elimination trees.
         mass_solver = std::make_unique<ComponentMassSolver>();
-        mass_solver->initialize(consistent_mass, components);
+        mass_solver->initialize(consistent_mass,
+                                components,
+                                owned_rows ? ranks->communicator :
+                                             MPI_COMM_SELF);
       }
     else
       {

@@ -1,6 +1,7 @@
 // Layer 4: consistent mass solve by supernodal sparse Cholesky factors per
 // displacement component (CHOLMOD).
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/multithread_info.h>
 #include <deal.II/base/thread_management.h>
 #include <deal.II/base/timer.h>
@@ -22,6 +23,15 @@ namespace isoimpact
   namespace
   {
     using Index = types::global_dof_index;
+
+    // Ranks of `comm`; 1 if the program did not start MPI (no launcher).
+    unsigned int
+    n_processes(const MPI_Comm comm)
+    {
+      return Utilities::MPI::job_supports_mpi() ?
+               Utilities::MPI::n_mpi_processes(comm) :
+               1;
+    }
 
     // One component's block of the mass matrix in the component's own
     // numbering: the lower triangle row by row, and which rows carry a
@@ -288,11 +298,17 @@ namespace isoimpact
     // column separator_column) the rows they share. One task: no split.
     std::vector<int> task_begin;
     int              separator_column = INT_MAX;
+    // Several MPI ranks: rank r substitutes the tasks [rank_task_begin[r],
+    // rank_task_begin[r + 1]), contiguous in the postorder.
+    MPI_Comm                  communicator = MPI_COMM_SELF;
+    unsigned int              rank         = 0;
+    std::vector<unsigned int> rank_task_begin;
     // Work: right-hand sides interleaved by component; per task the rows
-    // below one supernode and the task's updates of the separator rows.
+    // below one supernode; the tasks' updates of the separator rows, task
+    // after task (separator_size() values each).
     mutable std::vector<double>              y;
     mutable std::vector<std::vector<double>> below;
-    mutable std::vector<std::vector<double>> separator_updates;
+    mutable std::vector<double>              separator_updates;
 
     Factor()
     {
@@ -318,6 +334,50 @@ namespace isoimpact
     n_tasks() const
     {
       return task_begin.size() - 1;
+    }
+
+    std::size_t
+    separator_size() const
+    {
+      return std::size_t(L->n - separator_column) * n_components;
+    }
+
+    unsigned int
+    n_ranks() const
+    {
+      return rank_task_begin.size() - 1;
+    }
+
+    // Assigns the tasks to the ranks of `comm`, contiguous and about equal
+    // in number; checks that every rank split its tree alike.
+    void
+    distribute_tasks(const MPI_Comm comm)
+    {
+      communicator = comm;
+      rank = n_processes(comm) > 1 ? Utilities::MPI::this_mpi_process(comm) : 0;
+      const unsigned int n_rank = n_processes(comm);
+      rank_task_begin.resize(n_rank + 1);
+      for (unsigned int r = 0; r <= n_rank; ++r)
+        rank_task_begin[r] = n_tasks() > 1 ? r * n_tasks() / n_rank : 0;
+      if (n_rank > 1)
+        {
+          const std::vector<int> ranks_first =
+            Utilities::MPI::broadcast(comm, task_begin, 0);
+          AssertThrow(Utilities::MPI::min(int(ranks_first == task_begin),
+                                          comm) == 1,
+                      ExcMessage("the MPI ranks ordered the consistent mass "
+                                 "differently: its elimination tree is "
+                                 "not split alike"));
+        }
+    }
+
+    // Columns of the factor whose values the tasks [t_begin, t_end) compute.
+    std::pair<std::size_t, std::size_t>
+    task_columns(const unsigned int t_begin, const unsigned int t_end) const
+    {
+      const auto *super = static_cast<const int *>(L->super);
+      return {std::size_t(super[task_begin[t_begin]]),
+              std::size_t(super[task_begin[t_end]])};
     }
 
     // Splits the supernodal elimination tree: below the chain of
@@ -410,10 +470,12 @@ namespace isoimpact
   void
   ComponentMassSolver::initialize(
     const SparseMatrix<double>       &mass,
-    const std::vector<unsigned char> &dof_component)
+    const std::vector<unsigned char> &dof_component,
+    const MPI_Comm                    mpi_communicator)
   {
     Timer timer;
     factors.clear();
+    communicator  = mpi_communicator;
     const Index n = mass.m();
     AssertThrow(dof_component.size() == n,
                 ExcDimensionMismatch(dof_component.size(), n));
@@ -624,7 +686,12 @@ namespace isoimpact
                 factor->diagonal_rows.emplace_back(component_dofs[c][r],
                                                    blocks[c].diagonal[r]);
           }
-        factor->split_tree(MultithreadInfo::n_threads());
+        // At least two groups, so that the bits do not depend on one or
+        // two threads or ranks.
+        factor->split_tree(
+          std::max(2u,
+                   MultithreadInfo::n_threads() * n_processes(communicator)));
+        factor->distribute_tasks(communicator);
         factor->y.resize(std::size_t(m) * nc);
         // The rows below a supernode, and one sum per column (backward).
         int max_columns = 0;
@@ -634,10 +701,9 @@ namespace isoimpact
                              std::vector<double>(
                                (factor->L->maxesize + max_columns) * nc));
         if (factor->n_tasks() > 1)
-          factor->separator_updates.assign(
-            factor->n_tasks(),
-            std::vector<double>(std::size_t(m - factor->separator_column) *
-                                nc));
+          factor->separator_updates.assign(factor->n_tasks() *
+                                             factor->separator_size(),
+                                           0.);
         factors.push_back(std::move(factor));
       }
     setup_seconds = timer.wall_time();
@@ -651,26 +717,37 @@ namespace isoimpact
     const int             n_super = L.nsuper;
     const unsigned int    n_tasks = factor.n_tasks();
     const int             split   = factor.task_begin[n_tasks];
+    // This rank's tasks (all of them on one rank).
+    const unsigned int first_task = factor.rank_task_begin[factor.rank];
+    const unsigned int end_task   = factor.rank_task_begin[factor.rank + 1];
+    const std::size_t  n_shared   = factor.separator_size();
     if (n_tasks > 1)
       {
         Threads::TaskGroup<void> tasks;
-        for (unsigned int t = 0; t < n_tasks; ++t)
-          tasks += Threads::new_task([&factor, &L, y, t]() {
-            std::vector<double> &updates = factor.separator_updates[t];
-            std::fill(updates.begin(), updates.end(), 0.);
+        for (unsigned int t = first_task; t < end_task; ++t)
+          tasks += Threads::new_task([&factor, &L, y, t, n_shared]() {
+            double *updates = factor.separator_updates.data() + t * n_shared;
+            std::fill(updates, updates + n_shared, 0.);
             forward<nc>(L,
                         factor.task_begin[t],
                         factor.task_begin[t + 1],
                         y,
                         factor.below[t].data(),
                         factor.separator_column,
-                        updates.data());
+                        updates);
           });
         tasks.join_all();
+        if (factor.n_ranks() > 1)
+          all_gather_tasks(factor, factor.separator_updates.data(), n_shared);
+        // Added in the order of the tasks, on every rank alike.
         double *separator = y + std::size_t(factor.separator_column) * nc;
-        for (const auto &updates : factor.separator_updates)
-          for (std::size_t i = 0; i < updates.size(); ++i)
-            separator[i] += updates[i];
+        for (unsigned int t = 0; t < n_tasks; ++t)
+          {
+            const double *updates =
+              factor.separator_updates.data() + t * n_shared;
+            for (std::size_t i = 0; i < n_shared; ++i)
+              separator[i] += updates[i];
+          }
       }
     forward<nc>(L,
                 n_tasks > 1 ? split : 0,
@@ -692,7 +769,7 @@ namespace isoimpact
     if (n_tasks > 1)
       {
         Threads::TaskGroup<void> tasks;
-        for (unsigned int t = 0; t < n_tasks; ++t)
+        for (unsigned int t = first_task; t < end_task; ++t)
           tasks += Threads::new_task([&factor, &L, y, t]() {
             backward<nc>(L,
                          factor.task_begin[t],
@@ -701,7 +778,54 @@ namespace isoimpact
                          factor.below[t].data());
           });
         tasks.join_all();
+        // Every rank's subtrees' values, from the ranks that computed them.
+        if (factor.n_ranks() > 1)
+          {
+            std::vector<int> counts(factor.n_ranks()),
+              offsets(factor.n_ranks());
+            for (unsigned int r = 0; r < factor.n_ranks(); ++r)
+              {
+                const auto [begin, end] =
+                  factor.task_columns(factor.rank_task_begin[r],
+                                      factor.rank_task_begin[r + 1]);
+                offsets[r] = begin * nc;
+                counts[r]  = (end - begin) * nc;
+              }
+            const int error = MPI_Allgatherv(MPI_IN_PLACE,
+                                             0,
+                                             MPI_DATATYPE_NULL,
+                                             y,
+                                             counts.data(),
+                                             offsets.data(),
+                                             MPI_DOUBLE,
+                                             factor.communicator);
+            AssertThrowMPI(error);
+          }
       }
+  }
+
+  void
+  ComponentMassSolver::all_gather_tasks(const Factor     &factor,
+                                        double           *values,
+                                        const std::size_t per_task)
+  {
+    std::vector<int> counts(factor.n_ranks()), offsets(factor.n_ranks());
+    for (unsigned int r = 0; r < factor.n_ranks(); ++r)
+      {
+        offsets[r] = factor.rank_task_begin[r] * per_task;
+        counts[r] =
+          (factor.rank_task_begin[r + 1] - factor.rank_task_begin[r]) *
+          per_task;
+      }
+    const int error = MPI_Allgatherv(MPI_IN_PLACE,
+                                     0,
+                                     MPI_DATATYPE_NULL,
+                                     values,
+                                     counts.data(),
+                                     offsets.data(),
+                                     MPI_DOUBLE,
+                                     factor.communicator);
+    AssertThrowMPI(error);
   }
 
   void
@@ -739,10 +863,12 @@ namespace isoimpact
   void
   ComponentMassSolver::solve(Vector<double> &a, const Vector<double> &f) const
   {
-    // The factors write disjoint entries of a: one task each.
-    if (factors.size() == 1)
+    // The factors write disjoint entries of a: one task each (one after
+    // the other on several ranks, whose exchanges are not thread-safe).
+    if (factors.size() == 1 || n_processes(communicator) > 1)
       {
-        solve_with_factor(*factors[0], a, f);
+        for (const auto &factor : factors)
+          solve_with_factor(*factor, a, f);
         return;
       }
     Threads::TaskGroup<void> tasks;
@@ -804,8 +930,7 @@ namespace isoimpact
                  factor->y.size() * sizeof(double);
         for (const auto &work : factor->below)
           bytes += work.size() * sizeof(double);
-        for (const auto &work : factor->separator_updates)
-          bytes += work.size() * sizeof(double);
+        bytes += factor->separator_updates.size() * sizeof(double);
       }
     return bytes;
   }

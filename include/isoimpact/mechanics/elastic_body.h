@@ -50,9 +50,10 @@ namespace isoimpact
      * over the ranks (sum_step_energies, or when first read). With the
      * consistent mass, hanging nodes (local refinement) or
      * ranks->whole_state the ranks split K u only and every rank computes
-     * the whole state (state_is_replicated()), the consistent mass solved
-     * whole on each. No mass redistribution; penalty masses need the whole
-     * state; throws otherwise.
+     * the whole state (state_is_replicated()); the consistent mass's
+     * solve is split by the subtrees of its factor's elimination tree
+     * (ComponentMassSolver). No mass redistribution; penalty masses need the
+     * whole state; throws otherwise.
      */
     ElasticBody(const std::string                   &name,
                 std::unique_ptr<Discretization<dim>> discretization,

@@ -7,9 +7,12 @@
 // that the factor of the smaller block is the leading block of the shared
 // factor; the components of a factor are solved together (one pass over the
 // factor for all of them), and the independent subtrees of its elimination
-// tree in parallel.
+// tree in parallel: by threads, and on several MPI ranks by the ranks, each
+// solving its own subtrees (doc/parallel.md, "consistent mass").
 #ifndef isoimpact_mass_solver_h
 #define isoimpact_mass_solver_h
+
+#include <deal.II/base/mpi.h>
 
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
@@ -34,12 +37,23 @@ namespace isoimpact
      * positive diagonal entry only). dof_component[i] is the component of
      * unknown i. Throws if an entry couples two components or if a block is
      * not positive definite.
+     *
+     * Each factor's elimination tree is split into at least two groups of
+     * independent subtrees (ranks x threads where that is more), whatever
+     * the number of threads, so a solve has the same bits on 1 or 2
+     * threads and on 2 ranks of one thread. With a `communicator` of
+     * several ranks, every rank holds the whole matrix and factor, solve()
+     * is collective and each rank substitutes its own subtrees; two
+     * MPI_Allgatherv per factor (the subtrees' updates of the rows they
+     * share, and the solution) give every rank the whole a.
      */
     void
     initialize(const dealii::SparseMatrix<double> &mass,
-               const std::vector<unsigned char>   &dof_component);
+               const std::vector<unsigned char>   &dof_component,
+               const MPI_Comm communicator = MPI_COMM_SELF);
 
-    // a = M^{-1} f (a and f of the full size, may not alias).
+    // a = M^{-1} f (a and f of the full size, may not alias). Collective
+    // over the communicator of initialize().
     void
     solve(dealii::Vector<double> &a, const dealii::Vector<double> &f) const;
 
@@ -47,7 +61,8 @@ namespace isoimpact
     unsigned int
     n_factors() const;
     // Number of subtrees of the elimination trees solved side by side (the
-    // sum over the factors; 1 per factor if it is not split).
+    // sum over the factors, over all ranks; 1 per factor if it is not
+    // split).
     unsigned int
     n_parallel_subtrees() const;
     // Nonzeros of the factors L (all factors).
@@ -75,8 +90,15 @@ namespace isoimpact
     template <int n_components>
     static void
     substitute(const Factor &factor, double *y);
+    // Several ranks: every rank receives the values of the other ranks'
+    // tasks, `per_task` values per task, stored task after task.
+    static void
+    all_gather_tasks(const Factor     &factor,
+                     double           *values,
+                     const std::size_t per_task);
 
     std::vector<std::unique_ptr<Factor>> factors;
+    MPI_Comm                             communicator  = MPI_COMM_SELF;
     double                               setup_seconds = 0.;
   };
 } // namespace isoimpact
