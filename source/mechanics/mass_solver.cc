@@ -276,6 +276,32 @@ namespace isoimpact
             }
         }
     }
+
+    // Several ranks: every rank receives the values that the other ranks'
+    // tasks computed, those of task t at [offset(t), offset(t + 1)) of
+    // `values`.
+    template <typename FactorType, typename Offset>
+    void
+    all_gather_tasks(const FactorType &factor,
+                     double           *values,
+                     const Offset     &offset)
+    {
+      std::vector<int> counts(factor.n_ranks()), offsets(factor.n_ranks());
+      for (unsigned int r = 0; r < factor.n_ranks(); ++r)
+        {
+          offsets[r] = offset(factor.rank_task_begin[r]);
+          counts[r]  = offset(factor.rank_task_begin[r + 1]) - offsets[r];
+        }
+      const int error = MPI_Allgatherv(MPI_IN_PLACE,
+                                       0,
+                                       MPI_DATATYPE_NULL,
+                                       values,
+                                       counts.data(),
+                                       offsets.data(),
+                                       MPI_DOUBLE,
+                                       factor.communicator);
+      AssertThrowMPI(error);
+    }
   } // namespace
 
   // One factor and the components that share it.
@@ -371,13 +397,12 @@ namespace isoimpact
         }
     }
 
-    // Columns of the factor whose values the tasks [t_begin, t_end) compute.
-    std::pair<std::size_t, std::size_t>
-    task_columns(const unsigned int t_begin, const unsigned int t_end) const
+    // The first column of the factor that task t computes (t = n_tasks():
+    // the separator's); the tasks' columns follow each other.
+    std::size_t
+    first_column(const unsigned int t) const
     {
-      const auto *super = static_cast<const int *>(L->super);
-      return {std::size_t(super[task_begin[t_begin]]),
-              std::size_t(super[task_begin[t_end]])};
+      return static_cast<const int *>(L->super)[task_begin[t]];
     }
 
     // Splits the supernodal elimination tree: below the chain of
@@ -738,7 +763,11 @@ namespace isoimpact
           });
         tasks.join_all();
         if (factor.n_ranks() > 1)
-          all_gather_tasks(factor, factor.separator_updates.data(), n_shared);
+          all_gather_tasks(factor,
+                           factor.separator_updates.data(),
+                           [n_shared](const unsigned int t) {
+                             return t * n_shared;
+                           });
         // Added in the order of the tasks, on every rank alike.
         double *separator = y + std::size_t(factor.separator_column) * nc;
         for (unsigned int t = 0; t < n_tasks; ++t)
@@ -780,52 +809,10 @@ namespace isoimpact
         tasks.join_all();
         // Every rank's subtrees' values, from the ranks that computed them.
         if (factor.n_ranks() > 1)
-          {
-            std::vector<int> counts(factor.n_ranks()),
-              offsets(factor.n_ranks());
-            for (unsigned int r = 0; r < factor.n_ranks(); ++r)
-              {
-                const auto [begin, end] =
-                  factor.task_columns(factor.rank_task_begin[r],
-                                      factor.rank_task_begin[r + 1]);
-                offsets[r] = begin * nc;
-                counts[r]  = (end - begin) * nc;
-              }
-            const int error = MPI_Allgatherv(MPI_IN_PLACE,
-                                             0,
-                                             MPI_DATATYPE_NULL,
-                                             y,
-                                             counts.data(),
-                                             offsets.data(),
-                                             MPI_DOUBLE,
-                                             factor.communicator);
-            AssertThrowMPI(error);
-          }
+          all_gather_tasks(factor, y, [&factor](const unsigned int t) {
+            return factor.first_column(t) * nc;
+          });
       }
-  }
-
-  void
-  ComponentMassSolver::all_gather_tasks(const Factor     &factor,
-                                        double           *values,
-                                        const std::size_t per_task)
-  {
-    std::vector<int> counts(factor.n_ranks()), offsets(factor.n_ranks());
-    for (unsigned int r = 0; r < factor.n_ranks(); ++r)
-      {
-        offsets[r] = factor.rank_task_begin[r] * per_task;
-        counts[r] =
-          (factor.rank_task_begin[r + 1] - factor.rank_task_begin[r]) *
-          per_task;
-      }
-    const int error = MPI_Allgatherv(MPI_IN_PLACE,
-                                     0,
-                                     MPI_DATATYPE_NULL,
-                                     values,
-                                     counts.data(),
-                                     offsets.data(),
-                                     MPI_DOUBLE,
-                                     factor.communicator);
-    AssertThrowMPI(error);
   }
 
   void

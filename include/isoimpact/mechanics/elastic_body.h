@@ -122,7 +122,9 @@ namespace isoimpact
     // 1/2 (v - dt a) . M v with the body's acceleration a: the kinetic
     // energy of central differences at a full step from the half-step
     // velocity v = v^{n+1/2}; one pass for a lumped mass (the history
-    // computes it every step).
+    // computes it every step). With the consistent mass on several ranks
+    // (state_is_replicated()) each rank sums its own rows and the sums are
+    // added over the ranks: collective.
     double
     kinetic_energy_at_full_step(const dealii::Vector<double> &v,
                                 const double                  dt) const;

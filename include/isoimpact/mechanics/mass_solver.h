@@ -90,12 +90,6 @@ namespace isoimpact
     template <int n_components>
     static void
     substitute(const Factor &factor, double *y);
-    // Several ranks: every rank receives the values of the other ranks'
-    // tasks, `per_task` values per task, stored task after task.
-    static void
-    all_gather_tasks(const Factor     &factor,
-                     double           *values,
-                     const std::size_t per_task);
 
     std::vector<std::unique_ptr<Factor>> factors;
     MPI_Comm                             communicator  = MPI_COMM_SELF;
