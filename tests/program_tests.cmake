@@ -222,7 +222,8 @@ set_tests_properties(consistent_mass_solve_2_ranks PROPERTIES TIMEOUT 600)
 
 # The program on 2 MPI ranks against one process (issue 13), FEA Q9 and Q8,
 # IGA, HRZ, row-sum and consistent, two bodies and a rigid plane, contact
-# damping, the bipenalty, local refinement (FEA's hanging nodes, IGA's knot insertion): the
+# damping, the bipenalty, mass redistribution (FEA and IGA), local
+# refinement (FEA's hanging nodes, IGA's knot insertion): the
 # first 200 steps of the history to 1e-10, impulse, duration and force peaks
 # to 1e-4, energies and masses; the ParaView pieces of the ranks (subdivided
 # FEA, higher-order IGA cells) join to the serial output.
@@ -239,5 +240,7 @@ add_test(NAME mpi_history_2_ranks
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Discretization/Local refinements=1@Time integration/Time step=0.00025"
     ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_consistent_coarse.prm
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Mass matrix/Scheme=consistent"
-    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Contact/Bipenalty=true")
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Contact/Bipenalty=true"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Contact/Mass redistribution=true"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Contact/Mass redistribution=true")
 set_tests_properties(mpi_history_2_ranks PROPERTIES TIMEOUT 600)

@@ -103,9 +103,25 @@ namespace isoimpact
         row_exchange =
           UnknownExchange(*partition, ranks->communicator, ranks->shared);
         const unsigned int rank = row_exchange.this_rank();
-        // The cells that contribute to the owned rows: those that carry an
-        // owned unknown and, with hanging nodes, those that carry an
-        // unknown constrained to an owned one.
+        // The rows: the owned unknowns', and with shared_rows the shared
+        // unknowns' (on every rank).
+        IndexSet                   rows = partition->owned_unknowns(rank);
+        std::vector<unsigned char> shared_row(
+          ranks->shared_rows ? disc.n_dofs() : 0);
+        if (ranks->shared_rows)
+          {
+            rows.add_indices(ranks->shared.begin(), ranks->shared.end());
+            for (const auto i : ranks->shared)
+              shared_row[i] = 1;
+          }
+        rows.compress();
+        const auto selected = [&](const types::global_dof_index i) {
+          return row_exchange.is_owned(i) ||
+                 (!shared_row.empty() && shared_row[i]);
+        };
+        // The cells that contribute to these rows: those that carry an
+        // owned unknown or a shared row's and, with hanging nodes, those
+        // that carry an unknown constrained to one of the rows.
         std::vector<unsigned char> contributes(
           disc.triangulation().n_active_cells(),
           0);
@@ -114,21 +130,26 @@ namespace isoimpact
           {
             const unsigned int c = cell->active_cell_index();
             contributes[c]       = partition->is_assembly_cell(c, rank);
-            if (contributes[c] || body_constraints.n_constraints() == 0)
+            if (contributes[c] ||
+                (body_constraints.n_constraints() == 0 && shared_row.empty()))
               continue;
             disc.get_dof_indices(cell, indices);
             for (const auto i : indices)
-              if (const auto *entries =
-                    body_constraints.get_constraint_entries(i))
-                for (const auto &[master, weight] : *entries)
-                  contributes[c] |= row_exchange.is_owned(master);
+              {
+                contributes[c] |= selected(i);
+                if (const auto *entries =
+                      body_constraints.get_constraint_entries(i))
+                  for (const auto &[master, weight] : *entries)
+                    contributes[c] |= selected(master);
+              }
           }
-        owned_rows = RowSelection{partition->owned_unknowns(rank),
-                                  [contributes](const unsigned int cell) {
+        owned_rows = RowSelection{rows, [contributes](const unsigned int cell) {
                                     return contributes[cell] != 0;
                                   }};
       }
 
+    stiffness_rows =
+      owned_rows ? owned_rows->rows : complete_index_set(disc.n_dofs());
     make_sparsity_pattern(disc,
                           body_constraints,
                           sparsity_pattern,
@@ -867,9 +888,6 @@ namespace isoimpact
   ElasticBody<dim>::redistribute_mass(
     const std::vector<BoundarySegment<dim>> &surface)
   {
-    AssertThrow(!row_exchange.is_distributed(),
-                ExcMessage("mass redistribution of " + body_name +
-                           " is not supported on several MPI ranks"));
     AssertThrow(scheme != MassScheme::consistent,
                 ExcMessage("mass redistribution of " + body_name +
                            " needs a lumped mass (row-sum or HRZ); the "
@@ -882,14 +900,21 @@ namespace isoimpact
     AssertThrow(massless.empty(),
                 ExcMessage("the mass of " + body_name +
                            " is redistributed already"));
-    AssertThrow(!row_exchange.is_distributed(),
-                ExcMessage("mass redistribution of " + body_name +
-                           " is not supported on several MPI ranks"));
     const MassRedistribution redistribution =
       redistribute_lumped_mass(*discretization_ptr,
                                lumped_mass,
                                body_constraints,
                                surface);
+    // Several ranks: every rank computes the whole state and has the
+    // stiffness rows of the massless unknowns (RankDistribution::
+    // whole_state and shared_rows), which the boundary solve reads.
+    if (row_exchange.is_distributed())
+      for (const auto i : redistribution.massless)
+        AssertThrow(replicated_state && stiffness_rows.is_element(i),
+                    ExcMessage("mass redistribution of " + body_name +
+                               " on several MPI ranks needs the whole state "
+                               "and the surfaces' stiffness rows on every "
+                               "rank (RankDistribution)"));
     mass_before_redistribution = lumped_mass;
     lumped_mass                = redistribution.masses;
     massless                   = redistribution.massless;

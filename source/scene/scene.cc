@@ -427,9 +427,14 @@ namespace isoimpact
         if (n_world_ranks() > 1)
           {
             // The bipenalty changes the state where the penalty masses
-            // change: every rank computes the whole state.
-            ranks.emplace(
-              RankDistribution{MPI_COMM_WORLD, {}, parameters.bipenalty});
+            // change, mass redistribution makes the surfaces massless: every
+            // rank computes the whole state. The latter's boundary solve
+            // reads the surfaces' stiffness rows on every rank.
+            ranks.emplace(RankDistribution{MPI_COMM_WORLD,
+                                           {},
+                                           parameters.bipenalty ||
+                                             parameters.mass_redistribution,
+                                           parameters.mass_redistribution});
             for (const auto &segment : discretization->boundary_segments(
                    BodyGeometry::curved_boundary_id))
               for (const auto &node : segment.node_dofs)
@@ -701,19 +706,6 @@ namespace isoimpact
               const std::string &parameter_file,
               const unsigned int n_ranks)
   {
-    // Several MPI ranks: what the distributed step supports so far
-    // (doc/parallel.md).
-    if (n_ranks > 1)
-      {
-        const std::string way_out =
-          " is not supported on several MPI ranks yet (started as " +
-          std::to_string(n_ranks) +
-          " ranks); run it on one process (without mpirun, threads with "
-          "DEAL_II_NUM_THREADS)";
-        if (parameters.mass_redistribution)
-          refuse(parameter_file,
-                 "'Contact/Mass redistribution' = true" + way_out);
-      }
     check_start_positions(parameters, parameter_file);
     if (parameters.approach_law != "none")
       check_reference_scene(parameters, parameter_file);

@@ -278,29 +278,27 @@ if os.path.exists("/dev/full"):
     check_true("--print-parameters > /dev/full: exit 1, no signal", run.returncode == 1)
     check_true("--print-parameters > /dev/full: says the write failed",
                "writing the default parameters" in run.stderr and "failed" in run.stderr)
-# Several MPI ranks: a scene the distributed step does not support yet
-# (mass redistribution) is refused before any output, by every rank alike, with the
-# parameter, its value and the number of ranks named (exit 2). The runs that
-# work on 2 ranks are checked by mpi_history.py.
+# Several MPI ranks: bad input is refused by every rank alike, said once (by
+# rank 0), with the file and the parameter named (exit 2), and no output is
+# written: a time step above the stable bound. The runs that work on 2 ranks
+# (every scene, since session 14) are checked by mpi_history.py.
 mpirun = shutil.which("mpirun")
 check_true("mpirun is installed (scripts/setup.sh installs openmpi-bin)", mpirun is not None)
 if mpirun:
-    redistribution = os.path.join(workdir, "redistribution_for_mpi.prm")
-    edit_prm(good_prm, redistribution, {"Output/Directory": "mpi_output",
-                                        "Contact/Mass redistribution": "true"})
+    too_large = os.path.join(workdir, "time_step_for_mpi.prm")
+    edit_prm(good_prm, too_large, {"Output/Directory": "mpi_output",
+                                   "Time integration/Time step": "0.01"})
     shutil.rmtree(os.path.join(workdir, "mpi_output"), ignore_errors=True)
     run = subprocess.run([mpirun, "--allow-run-as-root", "--oversubscribe", "-np", "2", program,
-                          redistribution], cwd=workdir, capture_output=True, text=True)
-    print(f"--- mpirun -np 2, mass redistribution: exit {run.returncode}\n{run.stderr.strip()[:600]}")
-    check_true("mpirun -np 2, mass redistribution: exit 2", run.returncode == 2)
-    check_true("mpirun -np 2, mass redistribution: message names the file, the parameter, "
-               "its value and the 2 ranks",
-               redistribution in run.stderr
-               and "'Contact/Mass redistribution' = true" in run.stderr
-               and "2 ranks" in run.stderr)
-    check_true("mpirun -np 2, mass redistribution: said once (by rank 0)",
-               run.stderr.count("'Contact/Mass redistribution' = true") == 1)
-    check_true("mpirun -np 2, mass redistribution: no output directory",
+                          too_large], cwd=workdir, capture_output=True, text=True)
+    print(f"--- mpirun -np 2, time step 0.01 s: exit {run.returncode}\n{run.stderr.strip()[:600]}")
+    check_true("mpirun -np 2, time step above the bound: exit 2", run.returncode == 2)
+    check_true("mpirun -np 2, time step above the bound: message names the file, the "
+               "parameter and its value",
+               too_large in run.stderr and "Time step" in run.stderr and "0.01" in run.stderr)
+    check_true("mpirun -np 2, time step above the bound: said once (by rank 0)",
+               run.stderr.count(too_large) == 1)
+    check_true("mpirun -np 2, time step above the bound: no output directory",
                not os.path.exists(os.path.join(workdir, "mpi_output")))
 run = subprocess.run([program, "--help"], capture_output=True, text=True)
 check_true("--help exits with 0 and shows usage", run.returncode == 0 and "usage" in run.stdout)

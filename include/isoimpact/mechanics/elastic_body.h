@@ -27,12 +27,16 @@ namespace isoimpact
   // Issue 13 (doc/parallel.md): the MPI ranks a body is split over, and the
   // unknowns every rank reads whole (the contact surfaces').
   // whole_state: every rank computes the whole state (the bipenalty's
-  // penalty masses change it on the contact surfaces).
+  // penalty masses change it on the contact surfaces; mass redistribution
+  // makes them massless). shared_rows: every rank also builds the stiffness
+  // rows of the shared unknowns (mass redistribution's boundary solve reads
+  // them).
   struct RankDistribution
   {
     MPI_Comm                                     communicator;
     std::vector<dealii::types::global_dof_index> shared;
     bool                                         whole_state = false;
+    bool                                         shared_rows = false;
   };
 
   template <int dim>
@@ -293,9 +297,11 @@ namespace isoimpact
     // inverse masses zeroed on the constrained rows.
     bool                                         fused_lumped_step = false;
     std::vector<dealii::types::global_dof_index> massless;
-    dealii::Vector<double>                       mass_before_redistribution;
-    dealii::Vector<double>                       step_inverse_mass;
-    mutable dealii::Vector<double>               scratch, mass_times_scratch,
+    // The rows of the stiffness this rank built (all on one process).
+    dealii::IndexSet               stiffness_rows;
+    dealii::Vector<double>         mass_before_redistribution;
+    dealii::Vector<double>         step_inverse_mass;
+    mutable dealii::Vector<double> scratch, mass_times_scratch,
       scratch_previous_velocity;
     // K u of the last compute_acceleration().
     mutable dealii::Vector<double> stiffness_times_u;

@@ -56,12 +56,10 @@ namespace isoimpact
    * - with an analytic reference, the bodies (Body 1 and the plane or
    *   cylinder) touch at t = 0 and close along the line of centres, and the
    *   reference can describe the impact (closing speed below its limit);
-   * - the estimated memory of the meshes and matrices fits in the available
-   *   memory (MemAvailable of /proc/meminfo);
-   * - a given time step gives at most max_time_steps steps;
-   * - on n_ranks > 1 MPI ranks, the scene uses only what the distributed
-   *   step supports (lumped mass, no bipenalty, mass redistribution or
-   *   local refinement).
+   * - the estimated memory of the meshes and matrices, counted whole on
+   *   each of n_ranks MPI ranks, fits in the available memory (MemAvailable
+   *   of /proc/meminfo);
+   * - a given time step gives at most max_time_steps steps.
    */
   void
   check_scene(const Parameters  &parameters,
