@@ -226,7 +226,8 @@ set_tests_properties(consistent_mass_solve_2_ranks PROPERTIES TIMEOUT 600)
 # refinement (FEA's hanging nodes, IGA's knot insertion): the
 # first 200 steps of the history to 1e-10, impulse, duration and force peaks
 # to 1e-4, energies and masses; the ParaView pieces of the ranks (subdivided
-# FEA, higher-order IGA cells) join to the serial output.
+# FEA, higher-order IGA cells) join to the serial output. One case runs on 3
+# ranks (IGA consistent: the third rank has no subtree of the mass's factor).
 add_test(NAME mpi_history_2_ranks
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/mpi_history.py
     $<TARGET_FILE:isoimpact_program> ${ISOIMPACT_MPIRUN} ${_work}/mpi_history
@@ -242,5 +243,6 @@ add_test(NAME mpi_history_2_ranks
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Mass matrix/Scheme=consistent"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Contact/Bipenalty=true"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Contact/Mass redistribution=true"
-    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Contact/Mass redistribution=true")
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Contact/Mass redistribution=true"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_consistent_coarse.prm@Output/VTU interval=600@ranks=3")
 set_tests_properties(mpi_history_2_ranks PROPERTIES TIMEOUT 600)
