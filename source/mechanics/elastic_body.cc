@@ -105,20 +105,10 @@ namespace isoimpact
         const unsigned int rank = row_exchange.this_rank();
         // The rows: the owned unknowns', and with shared_rows the shared
         // unknowns' (on every rank).
-        IndexSet                   rows = partition->owned_unknowns(rank);
-        std::vector<unsigned char> shared_row(
-          ranks->shared_rows ? disc.n_dofs() : 0);
+        IndexSet rows = partition->owned_unknowns(rank);
         if (ranks->shared_rows)
-          {
-            rows.add_indices(ranks->shared.begin(), ranks->shared.end());
-            for (const auto i : ranks->shared)
-              shared_row[i] = 1;
-          }
+          rows.add_indices(ranks->shared.begin(), ranks->shared.end());
         rows.compress();
-        const auto selected = [&](const types::global_dof_index i) {
-          return row_exchange.is_owned(i) ||
-                 (!shared_row.empty() && shared_row[i]);
-        };
         // The cells that contribute to these rows: those that carry an
         // owned unknown or a shared row's and, with hanging nodes, those
         // that carry an unknown constrained to one of the rows.
@@ -131,16 +121,19 @@ namespace isoimpact
             const unsigned int c = cell->active_cell_index();
             contributes[c]       = partition->is_assembly_cell(c, rank);
             if (contributes[c] ||
-                (body_constraints.n_constraints() == 0 && shared_row.empty()))
+                (body_constraints.n_constraints() == 0 && !ranks->shared_rows))
               continue;
             disc.get_dof_indices(cell, indices);
             for (const auto i : indices)
               {
-                contributes[c] |= selected(i);
+                // (A cell that is not an assembly cell carries no owned
+                // unknown.)
+                if (ranks->shared_rows)
+                  contributes[c] |= rows.is_element(i);
                 if (const auto *entries =
                       body_constraints.get_constraint_entries(i))
                   for (const auto &[master, weight] : *entries)
-                    contributes[c] |= selected(master);
+                    contributes[c] |= rows.is_element(master);
               }
           }
         owned_rows = RowSelection{rows, [contributes](const unsigned int cell) {
