@@ -230,14 +230,24 @@ namespace isoimpact
                "and energies are reported for the full bodies (factor "
             << scene.symmetry_factor << ")\n";
     // Both stable steps include the contact penalty: the guaranteed bound
-    // (the larger of the element-by-element and the Gershgorin bound) and
-    // the sharper power-iteration estimate.
+    // (the larger of the element-by-element and the Gershgorin bound; a
+    // bound that does not apply to the scene is 0) and the sharper
+    // power-iteration estimate.
+    const auto bound_text = [](const double bound) {
+      std::ostringstream text;
+      if (bound > 0.)
+        text << bound << " s";
+      else
+        text << "not applicable";
+      return text.str();
+    };
     pcout << "  time step " << time_step << " s"
           << (parameters.automatic_time_step ? " (auto: " : " (")
           << time_step / stable.bound()
           << " of the stable step bound); stable step with contact: bound "
-          << stable.bound() << " s (element " << stable.element_bound
-          << " s, Gershgorin " << stable.gershgorin_bound << " s), estimate "
+          << stable.bound() << " s (element "
+          << bound_text(stable.element_bound) << ", Gershgorin "
+          << bound_text(stable.gershgorin_bound) << "), estimate "
           << stable.power_estimate << " s\n";
     if (time_step > stable.bound())
       pcout << "  warning: the time step exceeds the stable step bound "
