@@ -9,8 +9,11 @@
 
 #include <isoimpact/mechanics/assembly.h>
 
+#include <algorithm>
 #include <optional>
 #include <sstream>
+#include <tuple>
+#include <vector>
 
 using namespace dealii;
 
@@ -146,19 +149,45 @@ namespace isoimpact
                       const double         density,
                       FullMatrix<double>  &cell_matrix)
     {
+      // The mass couples no two components and is the same for each: it is
+      // integrated once over the base element's functions (each product as
+      // rho phi_i JxW phi_j, summed over the points in their order, as it
+      // would be per entry) and copied to every component's block.
       const auto &fe = fe_values.get_fe();
+      Assert(fe.n_base_elements() == 1, ExcNotImplemented());
+      const unsigned int        n = fe.n_dofs_per_cell();
+      std::vector<unsigned int> component(n), base_index(n);
+      unsigned int              n_base = 0;
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          std::tie(component[i], base_index[i]) =
+            fe.system_to_component_index(i);
+          n_base = std::max(n_base, base_index[i] + 1);
+        }
+      std::vector<unsigned int> representative(n_base, n);
+      for (unsigned int i = 0; i < n; ++i)
+        if (representative[base_index[i]] == n)
+          representative[base_index[i]] = i;
+      std::vector<double> value(n_base), scalar_mass(n_base * n_base, 0.);
       for (const unsigned int q : fe_values.quadrature_point_indices())
-        for (const unsigned int i : fe_values.dof_indices())
-          {
-            const unsigned int ci = fe.system_to_component_index(i).first;
-            const double       rho_phi_i = density *
-                                     fe_values.shape_value_component(i, q, ci) *
-                                     fe_values.JxW(q);
-            for (const unsigned int j : fe_values.dof_indices())
-              if (fe.system_to_component_index(j).first == ci)
-                cell_matrix(i, j) +=
-                  rho_phi_i * fe_values.shape_value_component(j, q, ci);
-          }
+        {
+          for (unsigned int a = 0; a < n_base; ++a)
+            value[a] =
+              fe_values.shape_value_component(representative[a],
+                                              q,
+                                              component[representative[a]]);
+          for (unsigned int a = 0; a < n_base; ++a)
+            {
+              const double rho_phi_a = density * value[a] * fe_values.JxW(q);
+              for (unsigned int b = 0; b < n_base; ++b)
+                scalar_mass[a * n_base + b] += rho_phi_a * value[b];
+            }
+        }
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int j = 0; j < n; ++j)
+          if (component[j] == component[i])
+            cell_matrix(i, j) +=
+              scalar_mass[base_index[i] * n_base + base_index[j]];
     }
     template <int dim>
     void
