@@ -7,7 +7,9 @@ cylinders touch from t = 0, so contact is on). The step is the program's:
 time_loop of summary.json over its steps (no ParaView output, history every
 100 steps). Each configuration runs `--repeats` times, interleaved with the
 others; the table gives the median ms per step, the speed-ups against
-1 rank x 1 thread, and the memory per process:
+1 rank x 1 thread (the ratio of the medians, and the median of the ratios
+within each round, which a drift of the machine's speed between rounds moves
+least), and the memory per process:
 - peak resident memory (/usr/bin/time, VmHWM), which counts the pages of the
   shared libraries the process touched (about 130 MB, 75 MB of them
   libdeal.ii, measured with /proc/PID/smaps) in every rank, although the
@@ -16,9 +18,9 @@ others; the table gives the median ms per step, the speed-ups against
   20 ms while the run lasts): the process's own data, what a further rank
   adds.
 
-usage: python3 benchmarks/mpi_step_cost.py [--quick] [--repeats 3] [--build build]
-                                          [--mass HRZ|consistent]
-  --quick: the 1e5 levels only.
+usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--steps 200]
+                                          [--build build] [--mass HRZ|consistent]
+  --quick: the 1e5 levels only; --fine: the 1e6 levels only.
   --mass consistent: the consistent mass instead of HRZ (its solve split
     over the ranks by the subtrees of the factor's elimination tree; the
     set-up factorises the mass once per process)."""
@@ -107,7 +109,10 @@ def run(program, prm, work, ranks, threads):
 
 def main():
     parser = argparse.ArgumentParser()
-    parser.add_argument("--quick", action="store_true")
+    level_choice = parser.add_mutually_exclusive_group()
+    level_choice.add_argument("--quick", action="store_true")
+    level_choice.add_argument("--fine", action="store_true")
+    parser.add_argument("--steps", type=int, default=200)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--build", default=os.path.join(root, "build"))
     parser.add_argument("--mass", choices=["HRZ", "consistent"], default="HRZ")
@@ -117,19 +122,20 @@ def main():
         if not shutil.which(tool):
             sys.exit(f"{tool} is needed (Debian: apt-get install time openmpi-bin)")
     print("| method | level | unknowns | configuration | step [ms] (median) | all runs [ms] "
-          "| speed-up vs 1 x 1 | peak memory per process [MB] | memory vs 1 x 1 "
+          "| speed-up vs 1 x 1 | speed-up (paired median) | peak memory per process [MB] | memory vs 1 x 1 "
           "| peak anonymous memory per process [MB] | anonymous vs 1 x 1 |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as work:
         for method, (prm, levels) in CASES.items():
-            for level in (levels[:1] if args.quick else levels):
+            chosen = levels[:1] if args.quick else levels[1:] if args.fine else levels
+            for level in chosen:
                 # dt = 2.5e-4 s at level 4, halved per level (stable); 200
-                # steps inside the impact.
+                # steps (--steps) inside the impact.
                 dt = 2.5e-4 / 2 ** (level - 4)
                 edited = edit_prm(os.path.join(root, prm), os.path.join(work, "run.prm"),
                                   {"Discretization/Global refinements": str(level),
                                    "Time integration/Time step": repr(dt),
-                                   "Time integration/End time": repr(200 * dt),
+                                   "Time integration/End time": repr(args.steps * dt),
                                    "Output/Directory": "out", "Output/VTU interval": "0",
                                    "Output/History interval": "100",
                                    "Output/Pressure profile times": "",
@@ -147,9 +153,11 @@ def main():
                 base = statistics.median(times[CONFIGS[0][0]])
                 for name, _, _ in CONFIGS:
                     median = statistics.median(times[name])
+                    paired = statistics.median(
+                        b / t for b, t in zip(times[CONFIGS[0][0]], times[name]))
                     print(f"| {method} {args.mass} | {level} | {unknowns} | {name} | {1e3 * median:.2f} | "
                           f"{', '.join(f'{1e3 * t:.2f}' for t in times[name])} | "
-                          f"{base / median:.2f} | {memory[name] / 1e6:.0f} | "
+                          f"{base / median:.2f} | {paired:.2f} | {memory[name] / 1e6:.0f} | "
                           f"{memory[name] / memory[CONFIGS[0][0]]:.2f} | "
                           f"{anonymous[name] / 1e6:.0f} | "
                           f"{anonymous[name] / anonymous[CONFIGS[0][0]]:.2f} |", flush=True)
