@@ -270,6 +270,12 @@ namespace isoimpact
       find_candidates(const Point<dim>          &x,
                       std::vector<unsigned int> &candidates) const;
 
+      // A lower bound of the distance from x to segment s: the distance to
+      // the box of its Bezier control points, whose convex hull holds the
+      // curve (0 for a segment whose Bezier weights are not all positive).
+      double
+      distance_bound(const unsigned int s, const Point<dim> &x) const;
+
       // Current position of a Gauss point.
       Point<dim>
       position(const SurfaceQuadraturePoint<dim> &point) const;
@@ -294,6 +300,9 @@ namespace isoimpact
 
     private:
       std::vector<std::vector<Point<dim>>> nodes;
+      // Per segment: the box of its Bezier control points (lower, upper),
+      // or an empty box (lower > upper) if it does not bound the curve.
+      std::vector<std::array<Point<dim>, 2>> hull_boxes;
       bgi::rtree<std::pair<BoundingBox, unsigned int>, bgi::quadratic<16>> tree;
     };
 
@@ -304,6 +313,7 @@ namespace isoimpact
       const Vector<double>                    &u)
       : segments(segments)
       , nodes(segments.size())
+      , hull_boxes(segments.size())
     {
       std::vector<std::pair<BoundingBox, unsigned int>> boxes;
       boxes.reserve(segments.size());
@@ -326,6 +336,37 @@ namespace isoimpact
                 lower[d] = std::min(lower[d], current[k][d]);
                 upper[d] = std::max(upper[d], current[k][d]);
               }
+          // x(eta) = sum_j b_j W_j P_j / sum_j b_j W_j with the Bezier
+          // weights W_j = sum_k w_k C_kj and points P_j = sum_k w_k C_kj
+          // x_k / W_j: with all W_j > 0 the curve lies in the hull of the
+          // P_j.
+          auto &hull = hull_boxes[s];
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              hull[0][d] = std::numeric_limits<double>::infinity();
+              hull[1][d] = -std::numeric_limits<double>::infinity();
+            }
+          bool bounded = true;
+          for (unsigned int j = 0; j <= segment.degree; ++j)
+            {
+              double     weight = 0.;
+              Point<dim> weighted;
+              for (unsigned int k = 0; k < current.size(); ++k)
+                {
+                  const double c = segment.node_weights[k] *
+                                   segment.bernstein_coefficients(k, j);
+                  weight += c;
+                  weighted += c * current[k];
+                }
+              bounded = bounded && weight > 0.;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  hull[0][d] = std::min(hull[0][d], weighted[d] / weight);
+                  hull[1][d] = std::max(hull[1][d], weighted[d] / weight);
+                }
+            }
+          if (!bounded)
+            hull[0][0] = 1., hull[1][0] = -1.;
           // Lagrange curves may leave the hull of their nodes, and a
           // penetrating point lies inside the other body: inflate the box.
           const double margin = 0.5 * reference_lengths[s];
@@ -349,6 +390,27 @@ namespace isoimpact
                    [&](const std::pair<BoundingBox, unsigned int> &value) {
                      candidates.push_back(value.second);
                    }));
+    }
+
+    template <int dim>
+    double
+    CurrentSurface<dim>::distance_bound(const unsigned int s,
+                                        const Point<dim>  &x) const
+    {
+      const auto &hull = hull_boxes[s];
+      if (hull[0][0] > hull[1][0])
+        return 0.;
+      double square = 0.;
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          const double outside =
+            std::max({hull[0][d] - x[d], x[d] - hull[1][d], 0.});
+          square += outside * outside;
+        }
+      // Less a margin for the round-off of the box and of the curve's
+      // points.
+      return std::max(0.,
+                      std::sqrt(square) - 1e-12 * hull[0].distance(hull[1]));
     }
 
     template <int dim>
@@ -468,6 +530,9 @@ namespace isoimpact
 
     // Closest-point projection of x onto the candidate segments of
     // `surface`; a point beyond a free end of the surface is no contact.
+    // The candidates are visited nearest bound first, and those whose bound
+    // exceeds the closest distance found are not projected. Of equally
+    // distant ones the first in `candidates` is taken, as in their order.
     template <int dim>
     Projection<dim>
     project(const CurrentSurface<dim>       &surface,
@@ -476,12 +541,23 @@ namespace isoimpact
             std::vector<double>             &r,
             std::vector<double>             &dr)
     {
+      thread_local std::vector<std::pair<double, unsigned int>> order;
+      order.clear();
+      for (unsigned int i = 0; i < candidates.size(); ++i)
+        order.emplace_back(surface.distance_bound(candidates[i], x), i);
+      std::sort(order.begin(), order.end());
+
       Projection<dim> closest;
       double          closest_distance = std::numeric_limits<double>::max();
-      for (const unsigned int s : candidates)
+      unsigned int    closest_position = numbers::invalid_unsigned_int;
+      for (const auto &[bound, position] : order)
         {
-          const double eta     = surface.closest_point(s, x, r, dr);
-          const auto  &segment = surface.segments[s];
+          if (closest_position != numbers::invalid_unsigned_int &&
+              bound > closest_distance)
+            break;
+          const unsigned int s       = candidates[position];
+          const double       eta     = surface.closest_point(s, x, r, dr);
+          const auto        &segment = surface.segments[s];
           if ((eta <= 0. && segment.free_end[0]) ||
               (eta >= 1. && segment.free_end[1]))
             continue;
@@ -489,9 +565,11 @@ namespace isoimpact
           Tensor<1, dim> t;
           surface.evaluate(s, eta, r, dr, y, t);
           const double distance = (x - y).norm();
-          if (distance < closest_distance)
+          if (distance < closest_distance ||
+              (distance == closest_distance && position < closest_position))
             {
               closest_distance = distance;
+              closest_position = position;
               closest.segment  = s;
               closest.eta      = eta;
               Tensor<1, dim> n;
