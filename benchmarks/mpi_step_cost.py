@@ -21,6 +21,9 @@ least), and the memory per process:
 usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--steps 200]
                                           [--build build] [--mass HRZ|consistent]
   --quick: the 1e5 levels only; --fine: the 1e6 levels only.
+The table is preceded by the machine's memory bandwidth with 1 and 2 ranks
+(benchmarks/memory_bandwidth.cc; build target benchmark_memory_bandwidth):
+their ratio bounds the speed-up of a step that streams its matrix.
   --mass consistent: the consistent mass instead of HRZ (its solve split
     over the ranks by the subtrees of the factor's elimination tree; the
     set-up factorises the mass once per process)."""
@@ -107,6 +110,34 @@ def run(program, prm, work, ranks, threads):
             max(anonymous.values()) if anonymous else float("nan"), summary["unknowns"])
 
 
+def bandwidth(build, ranks):
+    """Read and triad bandwidth summed over `ranks` ranks streaming at the
+    same time (benchmarks/memory_bandwidth.cc), GB/s."""
+    command = [os.path.join(build, "benchmarks", "benchmark_memory_bandwidth")]
+    if ranks > 1:
+        command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks),
+                   "-x", "DEAL_II_NUM_THREADS"] + command
+    out = subprocess.run(command, capture_output=True, text=True, check=True).stdout
+    match = re.search(r"read_GB_per_s_total ([0-9.]+) triad_GB_per_s_total ([0-9.]+)", out)
+    return float(match.group(1)), float(match.group(2))
+
+
+def print_bandwidth_ceiling(build, repeats):
+    """The speed-up a step bound by memory traffic can reach on this machine
+    with 2 ranks: the ratio of the bandwidths of 2 ranks and 1 rank, each
+    round's ratio taken (paired) and their median printed."""
+    rounds = [(bandwidth(build, 1), bandwidth(build, 2)) for _ in range(repeats)]
+    for kernel, k in [("read", 0), ("triad", 1)]:
+        one = [r[0][k] for r in rounds]
+        two = [r[1][k] for r in rounds]
+        ratio = statistics.median(b / a for a, b in zip(one, two))
+        print(f"- memory bandwidth, {kernel}: 1 rank {statistics.median(one):.1f} GB/s, "
+              f"2 ranks {statistics.median(two):.1f} GB/s together; ceiling of a "
+              f"bandwidth-bound 2-rank speed-up (paired median) {ratio:.2f} "
+              f"(runs: {', '.join(f'{a:.1f}/{b:.1f}' for a, b in zip(one, two))})",
+              flush=True)
+
+
 def main():
     parser = argparse.ArgumentParser()
     level_choice = parser.add_mutually_exclusive_group()
@@ -121,6 +152,8 @@ def main():
     for tool in ["/usr/bin/time", "mpirun"]:
         if not shutil.which(tool):
             sys.exit(f"{tool} is needed (Debian: apt-get install time openmpi-bin)")
+    print_bandwidth_ceiling(args.build, max(args.repeats, 3))
+    print()
     print("| method | level | unknowns | configuration | step [ms] (median) | all runs [ms] "
           "| speed-up vs 1 x 1 | speed-up (paired median) | peak memory per process [MB] | memory vs 1 x 1 "
           "| peak anonymous memory per process [MB] | anonymous vs 1 x 1 |")
