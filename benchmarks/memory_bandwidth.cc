@@ -1,7 +1,9 @@
 // Memory bandwidth of this machine, per MPI rank and summed over the ranks
-// that stream at the same time: the ceiling of the speed-up of a step that
-// streams its matrix from memory (benchmarks/mpi_step_cost.py runs it with
-// 1 and 2 ranks). Two kernels over arrays far larger than the caches:
+// that stream at the same time. Their ratio (2 ranks against 1) is the
+// speed-up of a step bound by memory traffic alone
+// (benchmarks/mpi_step_cost.py runs it with 1 and 2 ranks); a step that one
+// core runs below the bandwidth it can draw scales beyond it. Two kernels
+// over arrays far larger than the caches:
 // - read:  s += x_i (four partial sums), 8 bytes per entry;
 // - triad: a_i = b_i + 3 c_i, 24 bytes per entry counted (STREAM's rule).
 // Each kernel runs `repeats` times between barriers; the fastest run of

@@ -23,7 +23,7 @@ usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--s
   --quick: the 1e5 levels only; --fine: the 1e6 levels only.
 The table is preceded by the machine's memory bandwidth with 1 and 2 ranks
 (benchmarks/memory_bandwidth.cc; build target benchmark_memory_bandwidth):
-their ratio bounds the speed-up of a step that streams its matrix.
+their ratio is the speed-up of a step bound by memory traffic alone.
   --mass consistent: the consistent mass instead of HRZ (its solve split
     over the ranks by the subtrees of the factor's elimination tree; the
     set-up factorises the mass once per process)."""
@@ -122,18 +122,19 @@ def bandwidth(build, ranks):
     return float(match.group(1)), float(match.group(2))
 
 
-def print_bandwidth_ceiling(build, repeats):
-    """The speed-up a step bound by memory traffic can reach on this machine
-    with 2 ranks: the ratio of the bandwidths of 2 ranks and 1 rank, each
-    round's ratio taken (paired) and their median printed."""
+def print_bandwidth_ratio(build, repeats):
+    """The ratio of the bandwidths of 2 ranks and 1 rank (each round's ratio
+    taken, paired, and their median printed): the speed-up of a step bound
+    by memory traffic alone. A step that one core runs below the bandwidth
+    it can draw (latency, arithmetic) scales beyond it."""
     rounds = [(bandwidth(build, 1), bandwidth(build, 2)) for _ in range(repeats)]
     for kernel, k in [("read", 0), ("triad", 1)]:
         one = [r[0][k] for r in rounds]
         two = [r[1][k] for r in rounds]
         ratio = statistics.median(b / a for a, b in zip(one, two))
         print(f"- memory bandwidth, {kernel}: 1 rank {statistics.median(one):.1f} GB/s, "
-              f"2 ranks {statistics.median(two):.1f} GB/s together; ceiling of a "
-              f"bandwidth-bound 2-rank speed-up (paired median) {ratio:.2f} "
+              f"2 ranks {statistics.median(two):.1f} GB/s together; ratio (paired "
+              f"median) {ratio:.2f} "
               f"(runs: {', '.join(f'{a:.1f}/{b:.1f}' for a, b in zip(one, two))})",
               flush=True)
 
@@ -152,7 +153,7 @@ def main():
     for tool in ["/usr/bin/time", "mpirun"]:
         if not shutil.which(tool):
             sys.exit(f"{tool} is needed (Debian: apt-get install time openmpi-bin)")
-    print_bandwidth_ceiling(args.build, max(args.repeats, 3))
+    print_bandwidth_ratio(args.build, max(args.repeats, 3))
     print()
     print("| method | level | unknowns | configuration | step [ms] (median) | all runs [ms] "
           "| speed-up vs 1 x 1 | speed-up (paired median) | peak memory per process [MB] | memory vs 1 x 1 "
