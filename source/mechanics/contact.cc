@@ -221,6 +221,23 @@ namespace isoimpact
     return mu;
   }
 
+  namespace
+  {
+    // The pressure less the damping c dg/dt, down to zero; `removed_power`
+    // receives (pressure - damped) dg/dt w.
+    double
+    damped_pressure(const double pressure,
+                    const double damping,
+                    const double gap_rate,
+                    const double weight,
+                    double      &removed_power)
+    {
+      const double damped = std::max(0., pressure - damping * gap_rate);
+      removed_power       = (pressure - damped) * gap_rate * weight;
+      return damped;
+    }
+  } // namespace
+
   template <int dim>
   double
   ContactResult<dim>::damp(const double pressure,
@@ -228,8 +245,10 @@ namespace isoimpact
                            const double gap_rate,
                            const double weight)
   {
-    const double damped = std::max(0., pressure - damping * gap_rate);
-    damping_power += (pressure - damped) * gap_rate * weight;
+    double       removed_power;
+    const double damped =
+      damped_pressure(pressure, damping, gap_rate, weight, removed_power);
+    damping_power += removed_power;
     return damped;
   }
 
@@ -249,21 +268,25 @@ namespace isoimpact
     ++n_active_points;
   }
 
-  namespace
+  namespace internal
   {
     using BoostPoint  = bg::model::point<double, 2, bg::cs::cartesian>;
     using BoundingBox = bg::model::box<BoostPoint>;
 
-    // Scratch of one evaluation: a contact surface in its current
+    // Scratch of the evaluations: a contact surface in its current
     // configuration (the node positions of each segment) and its search
-    // structure, an R-tree of the segments' bounding boxes.
+    // structure, an R-tree of the segments' bounding boxes. Kept between
+    // evaluations so that its arrays are not allocated again.
     template <int dim>
     class CurrentSurface
     {
     public:
-      CurrentSurface(const std::vector<BoundarySegment<dim>> &segments,
-                     const std::vector<double>               &reference_lengths,
-                     const Vector<double>                    &u);
+      // The configuration u of `segments` (the vectors must outlive the
+      // use until the next update).
+      void
+      update(const std::vector<BoundarySegment<dim>> &segments,
+             const std::vector<double>               &reference_lengths,
+             const Vector<double>                    &u);
 
       // Search: the segments whose bounding box contains x.
       void
@@ -296,10 +319,16 @@ namespace isoimpact
                     std::vector<double> &r,
                     std::vector<double> &dr) const;
 
-      const std::vector<BoundarySegment<dim>> &segments;
+      const BoundarySegment<dim> &
+      segment(const unsigned int s) const
+      {
+        return (*segments)[s];
+      }
 
     private:
-      std::vector<std::vector<Point<dim>>> nodes;
+      const std::vector<BoundarySegment<dim>>          *segments = nullptr;
+      std::vector<std::vector<Point<dim>>>              nodes;
+      std::vector<std::pair<BoundingBox, unsigned int>> boxes;
       // Per segment: the box of its Bezier control points (lower, upper),
       // or an empty box (lower > upper) if it does not bound the curve.
       std::vector<std::array<Point<dim>, 2>> hull_boxes;
@@ -307,16 +336,16 @@ namespace isoimpact
     };
 
     template <int dim>
-    CurrentSurface<dim>::CurrentSurface(
+    void
+    CurrentSurface<dim>::update(
       const std::vector<BoundarySegment<dim>> &segments,
       const std::vector<double>               &reference_lengths,
       const Vector<double>                    &u)
-      : segments(segments)
-      , nodes(segments.size())
-      , hull_boxes(segments.size())
     {
-      std::vector<std::pair<BoundingBox, unsigned int>> boxes;
-      boxes.reserve(segments.size());
+      this->segments = &segments;
+      nodes.resize(segments.size());
+      hull_boxes.resize(segments.size());
+      boxes.clear();
       for (unsigned int s = 0; s < segments.size(); ++s)
         {
           const auto &segment = segments[s];
@@ -433,7 +462,7 @@ namespace isoimpact
                                   Point<dim>          &x,
                                   Tensor<1, dim>      &tangent) const
     {
-      evaluate_segment_basis(segments[s], eta, r, dr);
+      evaluate_segment_basis((*segments)[s], eta, r, dr);
       x       = Point<dim>();
       tangent = Tensor<1, dim>();
       for (unsigned int k = 0; k < r.size(); ++k)
@@ -518,6 +547,12 @@ namespace isoimpact
       return eta;
     }
 
+  } // namespace internal
+
+  namespace
+  {
+    using internal::CurrentSurface;
+
     // The closest point of a surface to a point x.
     template <int dim>
     struct Projection
@@ -557,7 +592,7 @@ namespace isoimpact
             break;
           const unsigned int s       = candidates[position];
           const double       eta     = surface.closest_point(s, x, r, dr);
-          const auto        &segment = surface.segments[s];
+          const auto        &segment = surface.segment(s);
           if ((eta <= 0. && segment.free_end[0]) ||
               (eta >= 1. && segment.free_end[1]))
             continue;
@@ -646,6 +681,9 @@ namespace isoimpact
             }
       }
   }
+
+  template <int dim>
+  PenaltyContact<dim>::~PenaltyContact() = default;
 
   template <int dim>
   void
@@ -739,6 +777,15 @@ namespace isoimpact
   }
 
   template <int dim>
+  void
+  PenaltyContact<dim>::distribute_points(const MPI_Comm comm)
+  {
+    communicator = comm;
+    n_ranks      = Utilities::MPI::n_mpi_processes(comm);
+    rank         = Utilities::MPI::this_mpi_process(comm);
+  }
+
+  template <int dim>
   double
   PenaltyContact<dim>::damping_ratio() const
   {
@@ -761,118 +808,169 @@ namespace isoimpact
                             !surfaces[1].mass_density.empty()),
                 ExcMessage("contact damping needs the velocities and the "
                            "surface masses of both bodies"));
-    const std::array<CurrentSurface<dim>, 2> current = {
-      {CurrentSurface<dim>(surfaces[0].segments,
-                           surfaces[0].reference_lengths,
-                           *displacements[0]),
-       CurrentSurface<dim>(surfaces[1].segments,
-                           surfaces[1].reference_lengths,
-                           *displacements[1])}};
+    for (unsigned int b = 0; b < 2; ++b)
+      {
+        if (!current_surfaces[b])
+          current_surfaces[b] = std::make_unique<CurrentSurface<dim>>();
+        current_surfaces[b]->update(surfaces[b].segments,
+                                    surfaces[b].reference_lengths,
+                                    *displacements[b]);
+      }
+    const std::array<const CurrentSurface<dim> *, 2> current = {
+      {current_surfaces[0].get(), current_surfaces[1].get()}};
 
     // Both passes see (nearly) the same gap: the pressure they carry
     // together is twice the pressure of one pass, 2 eps_pass |g| undamped.
     const double eps = penalty_per_pass();
 
-    ContactResult<dim>        result;
+    // The projections of this rank's points g = rank, rank + n_ranks, ...
+    // (g numbers the points of body 0, then those of body 1).
+    const unsigned int        n_points_0 = surfaces[0].points.size();
+    const unsigned int        n_points = n_points_0 + surfaces[1].points.size();
+    const unsigned int        per_rank = (n_points + n_ranks - 1) / n_ranks;
     std::vector<double>       r, dr;
     std::vector<unsigned int> candidates;
-    for (unsigned int body = 0; body < 2; ++body)
+    own_outcomes.assign(per_rank,
+                        PointOutcome{-1., 0., {{0., 0.}}, 0., 0., 0.});
+    for (unsigned int g = rank; g < n_points; g += n_ranks)
       {
-        const unsigned int other          = 1 - body;
-        const double       sign_on_body_0 = (body == 0) ? 1. : -1.;
-        std::fill(point_pressure[body].begin(), point_pressure[body].end(), 0.);
-        std::fill(point_gap[body].begin(), point_gap[body].end(), 0.);
-        for (unsigned int q = 0; q < surfaces[body].points.size(); ++q)
-          {
-            const auto      &point = surfaces[body].points[q];
-            const Point<dim> x     = current[body].position(point);
-            current[other].find_candidates(x, candidates);
-            const Projection<dim> projection =
-              project(current[other], x, candidates, r, dr);
-            if (projection.segment == numbers::invalid_unsigned_int ||
-                !(projection.gap < 0.))
-              continue;
+        const unsigned int body  = (g < n_points_0) ? 0 : 1;
+        const unsigned int other = 1 - body;
+        const unsigned int q     = (body == 0) ? g : g - n_points_0;
+        const auto        &point = surfaces[body].points[q];
+        const Point<dim>   x     = current[body]->position(point);
+        current[other]->find_candidates(x, candidates);
+        const Projection<dim> projection =
+          project(*current[other], x, candidates, r, dr);
+        if (projection.segment == numbers::invalid_unsigned_int ||
+            !(projection.gap < 0.))
+          continue;
 
+        const double gap           = projection.gap;
+        double       pressure      = -eps * gap;
+        double       damping_power = 0.;
+        if (damped)
+          {
             const auto &segment = surfaces[body].segments[point.segment];
             const auto &other_segment =
               surfaces[other].segments[projection.segment];
             evaluate_segment_basis(other_segment, projection.eta, r, dr);
-            const double gap      = projection.gap;
-            double       pressure = -eps * gap;
-            if (damped)
-              {
-                // c_pass = xi sqrt(2 eps_pass mu): the two passes together
-                // damp the pair's spring 2 eps_pass critically at xi = 1.
-                const double mu_own =
-                  surfaces[body].mass_density(point.segment,
-                                              point.shape_values);
-                const double mu_other =
-                  surfaces[other].mass_density(projection.segment, r);
-                const double mu = mu_own * mu_other / (mu_own + mu_other);
-                const double damping =
-                  settings.damping_ratio * std::sqrt(2. * eps * mu);
-                const double gap_rate =
-                  (point_velocity(segment,
-                                  point.shape_values,
-                                  *velocities[body]) -
-                   point_velocity(other_segment, r, *velocities[other])) *
-                  projection.normal;
-                pressure =
-                  result.damp(pressure, damping, gap_rate, point.weight);
-              }
-            const Tensor<1, dim> force = add_contact_traction(segment,
-                                                              point,
-                                                              other_segment,
-                                                              r,
-                                                              projection.normal,
-                                                              pressure,
-                                                              *forces[body],
-                                                              *forces[other]);
-            if (settings.bipenalty_mass > 0.)
-              {
-                // Lumped: eps_m w |R_k| / sum |R| per component on both
-                // sides (NURBS: eps_m w R_k).
-                const auto add_mass = [&](const BoundarySegment<dim> &seg,
-                                          const std::vector<double>  &values,
-                                          const unsigned int          side) {
-                  double sum = 0.;
-                  for (const double value : values)
-                    sum += std::abs(value);
-                  for (unsigned int k = 0; k < values.size(); ++k)
-                    for (unsigned int d = 0; d < dim; ++d)
-                      result.penalty_masses[side].emplace_back(
-                        seg.node_dofs[k][d],
-                        settings.bipenalty_mass * point.weight *
-                          std::abs(values[k]) / sum);
-                };
-                add_mass(segment, point.shape_values, body);
-                add_mass(other_segment, r, other);
-              }
-            if (this->linearize)
-              {
-                auto &tangent = result.linearization;
-                tangent.add_term(eps * point.weight,
-                                 (std::uint64_t(body) << 63) |
-                                   (std::uint64_t(q) << 31) |
-                                   projection.segment);
-                tangent.add_gradient(segment,
-                                     point.shape_values,
-                                     projection.normal,
-                                     1.,
-                                     body);
-                tangent.add_gradient(other_segment,
-                                     r,
-                                     projection.normal,
-                                     -1.,
-                                     other);
-              }
-            point_pressure[body][q] = 2. * pressure;
-            point_gap[body][q]      = gap;
-            result.add_active_point(2. * pressure,
-                                    gap,
-                                    0.5 * eps * gap * gap * point.weight,
-                                    sign_on_body_0 * force);
+            // c_pass = xi sqrt(2 eps_pass mu): the two passes together
+            // damp the pair's spring 2 eps_pass critically at xi = 1.
+            const double mu_own =
+              surfaces[body].mass_density(point.segment, point.shape_values);
+            const double mu_other =
+              surfaces[other].mass_density(projection.segment, r);
+            const double mu = mu_own * mu_other / (mu_own + mu_other);
+            const double damping =
+              settings.damping_ratio * std::sqrt(2. * eps * mu);
+            const double gap_rate =
+              (point_velocity(segment, point.shape_values, *velocities[body]) -
+               point_velocity(other_segment, r, *velocities[other])) *
+              projection.normal;
+            pressure = damped_pressure(pressure,
+                                       damping,
+                                       gap_rate,
+                                       point.weight,
+                                       damping_power);
           }
+        own_outcomes[g / n_ranks] = {double(projection.segment),
+                                     projection.eta,
+                                     {{projection.normal[0],
+                                       projection.normal[1]}},
+                                     gap,
+                                     pressure,
+                                     damping_power};
+      }
+    const PointOutcome *outcomes = own_outcomes.data();
+    if (n_ranks > 1)
+      {
+        all_outcomes.resize(std::size_t(per_rank) * n_ranks);
+        const int n_doubles =
+          per_rank * (sizeof(PointOutcome) / sizeof(double));
+        const int error = MPI_Allgather(own_outcomes.data(),
+                                        n_doubles,
+                                        MPI_DOUBLE,
+                                        all_outcomes.data(),
+                                        n_doubles,
+                                        MPI_DOUBLE,
+                                        communicator);
+        AssertThrowMPI(error);
+        outcomes = all_outcomes.data();
+      }
+
+    // Every point's forces, in the order of one process.
+    ContactResult<dim> result;
+    for (unsigned int body = 0; body < 2; ++body)
+      {
+        std::fill(point_pressure[body].begin(), point_pressure[body].end(), 0.);
+        std::fill(point_gap[body].begin(), point_gap[body].end(), 0.);
+      }
+    for (unsigned int g = 0; g < n_points; ++g)
+      {
+        const PointOutcome &outcome =
+          outcomes[std::size_t(g % n_ranks) * per_rank + g / n_ranks];
+        if (outcome.segment < 0.)
+          continue;
+        const unsigned int body           = (g < n_points_0) ? 0 : 1;
+        const unsigned int other          = 1 - body;
+        const unsigned int q              = (body == 0) ? g : g - n_points_0;
+        const double       sign_on_body_0 = (body == 0) ? 1. : -1.;
+        const auto        &point          = surfaces[body].points[q];
+        const unsigned int other_index    = (unsigned int)(outcome.segment);
+        const auto        &segment   = surfaces[body].segments[point.segment];
+        const auto    &other_segment = surfaces[other].segments[other_index];
+        Tensor<1, dim> normal;
+        for (unsigned int d = 0; d < dim; ++d)
+          normal[d] = outcome.normal[d];
+        const double gap      = outcome.gap;
+        const double pressure = outcome.pressure;
+        evaluate_segment_basis(other_segment, outcome.eta, r, dr);
+        if (damped)
+          result.damping_power += outcome.damping_power;
+        const Tensor<1, dim> force = add_contact_traction(segment,
+                                                          point,
+                                                          other_segment,
+                                                          r,
+                                                          normal,
+                                                          pressure,
+                                                          *forces[body],
+                                                          *forces[other]);
+        if (settings.bipenalty_mass > 0.)
+          {
+            // Lumped: eps_m w |R_k| / sum |R| per component on both
+            // sides (NURBS: eps_m w R_k).
+            const auto add_mass = [&](const BoundarySegment<dim> &seg,
+                                      const std::vector<double>  &values,
+                                      const unsigned int          side) {
+              double sum = 0.;
+              for (const double value : values)
+                sum += std::abs(value);
+              for (unsigned int k = 0; k < values.size(); ++k)
+                for (unsigned int d = 0; d < dim; ++d)
+                  result.penalty_masses[side].emplace_back(
+                    seg.node_dofs[k][d],
+                    settings.bipenalty_mass * point.weight *
+                      std::abs(values[k]) / sum);
+            };
+            add_mass(segment, point.shape_values, body);
+            add_mass(other_segment, r, other);
+          }
+        if (this->linearize)
+          {
+            auto &tangent = result.linearization;
+            tangent.add_term(eps * point.weight,
+                             (std::uint64_t(body) << 63) |
+                               (std::uint64_t(q) << 31) | other_index);
+            tangent.add_gradient(segment, point.shape_values, normal, 1., body);
+            tangent.add_gradient(other_segment, r, normal, -1., other);
+          }
+        point_pressure[body][q] = 2. * pressure;
+        point_gap[body][q]      = gap;
+        result.add_active_point(2. * pressure,
+                                gap,
+                                0.5 * eps * gap * gap * point.weight,
+                                sign_on_body_0 * force);
       }
     for (unsigned int body = 0; body < 2; ++body)
       add_surface_pressure(surfaces[body].nodes,

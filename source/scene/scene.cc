@@ -537,10 +537,13 @@ namespace isoimpact
         ContactSettings settings = parameters.contact;
         if (parameters.automatic_penalty)
           settings.penalty = automatic_penalty;
-        scene.contacts.push_back(
-          std::make_unique<PenaltyContact<2>>(settings,
-                                              surfaces[0],
-                                              surfaces[1]));
+        auto contact = std::make_unique<PenaltyContact<2>>(settings,
+                                                           surfaces[0],
+                                                           surfaces[1]);
+        // Several ranks: each projects its share of the Gauss points.
+        if (n_world_ranks() > 1)
+          contact->distribute_points(MPI_COMM_WORLD);
+        scene.contacts.push_back(std::move(contact));
         scene.interactions.push_back({scene.contacts.back().get(), 0, 1});
         // Bipenalty: the critical mass penalty makes the contact's bound
         // margin C / eps_m equal to the bodies' (2 / dt_bulk)^2.

@@ -16,6 +16,7 @@
 #define isoimpact_contact_h
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/tensor.h>
 
 #include <isoimpact/discretization/discretization.h>
@@ -23,6 +24,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -442,6 +444,14 @@ namespace isoimpact
     return 0.;
   }
 
+  namespace internal
+  {
+    // A contact surface in its current configuration and its search
+    // structure (contact.cc).
+    template <int dim>
+    class CurrentSurface;
+  } // namespace internal
+
   /**
    * Two-pass penalty contact of body 0 and body 1. Pass b takes the Gauss
    * points of body b's surface and projects them onto the other body's
@@ -455,6 +465,7 @@ namespace isoimpact
     PenaltyContact(const ContactSettings            &settings,
                    std::vector<BoundarySegment<dim>> surface_of_body_0,
                    std::vector<BoundarySegment<dim>> surface_of_body_1);
+    ~PenaltyContact() override;
 
     unsigned int
     n_bodies() const override;
@@ -503,7 +514,40 @@ namespace isoimpact
     unsigned int
     n_surface_points() const;
 
+    /**
+     * Several MPI ranks (issue 13): each rank projects every n-th Gauss
+     * point of the two surfaces (numbered together, body 0 first) and the
+     * ranks exchange what the projections found in one MPI_Allgather; then
+     * every rank adds the forces of all points in the order of one process,
+     * so that the forces and the result have its bits. evaluate() is then
+     * collective. Without this call the process projects every point.
+     */
+    void
+    distribute_points(const MPI_Comm communicator);
+
   private:
+    // What the projection of one Gauss point found: the other surface's
+    // segment (-1: no contact), its parameter there, the normal, the gap,
+    // the pressure of the pass (damped) and the power its damping removed.
+    struct PointOutcome
+    {
+      double                segment;
+      double                eta;
+      std::array<double, 2> normal;
+      double                gap;
+      double                pressure;
+      double                damping_power;
+    };
+    // The outcomes of the points g = rank, rank + n_ranks, ... (padded to
+    // the same count on every rank), and of every point after the exchange.
+    MPI_Comm                          communicator = MPI_COMM_SELF;
+    unsigned int                      n_ranks      = 1;
+    unsigned int                      rank         = 0;
+    mutable std::vector<PointOutcome> own_outcomes, all_outcomes;
+    // Scratch of evaluate(): the two surfaces in the current configuration.
+    mutable std::array<std::unique_ptr<internal::CurrentSurface<dim>>, 2>
+      current_surfaces;
+
     // A contact surface: its segments, their reference lengths and its Gauss
     // points.
     struct Surface
