@@ -34,6 +34,11 @@
 //    components, roller constraints, HRZ masses, stiffness entries, contact
 //    segments' unknowns and the field on every cell equal the original's
 //    with the unknowns permuted, bit for bit (0 difference).
+// 6. The interface layers of 2 parts (load balancing): every unknown is
+//    reached, on its owner's side (layer <= 0 in part 0, > 0 in part 1),
+//    and no entry of the stiffness pattern couples layers more than one
+//    apart (0 such entries), which makes every split at a layer a split
+//    whose ghosts are one layer; 1 and 3 parts have no layers.
 #include <deal.II/base/mpi.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
@@ -118,6 +123,32 @@ namespace
         CHECK_CLOSE_ABS(imbalance, 0., 0.10);
         CHECK_CLOSE_ABS(missing, 0., 0.);
         CHECK_CLOSE_ABS(max_ghosts, 0., n_parts == 1 ? 0. : 0.25);
+
+        // 6. The interface layers (2 parts; none otherwise).
+        const auto &layers = partition.interface_layers();
+        CHECK_CLOSE_ABS(layers.size(), n_parts == 2 ? n : 0., 0.);
+        if (n_parts != 2)
+          continue;
+        double wrong_side = 0., jumps = 0., unreached = 0.;
+        int    deepest = 0, highest = 0;
+        for (types::global_dof_index i = 0; i < layers.size(); ++i)
+          {
+            wrong_side += ((layers[i] <= 0) != (partition.owner(i) == 0));
+            unreached += std::abs(layers[i]) ==
+                         UnknownPartition<2>::interface_layer_unreached;
+            deepest = std::min(deepest, layers[i]);
+            highest = std::max(highest, layers[i]);
+            for (auto entry = pattern.begin(i); entry != pattern.end(i);
+                 ++entry)
+              jumps += std::abs(layers[i] - layers[entry->column()]) > 1;
+          }
+        std::cout << "    interface layers " << deepest << " to " << highest
+                  << ", couplings across more than one layer " << jumps
+                  << std::endl;
+        CHECK_CLOSE_ABS(wrong_side, 0., 0.);
+        CHECK_CLOSE_ABS(unreached, 0., 0.);
+        CHECK_CLOSE_ABS(jumps, 0., 0.);
+        CHECK_TRUE(deepest < -2 && highest > 3);
       }
   }
 

@@ -29,7 +29,9 @@ namespace isoimpact
   UnknownExchange::UnknownExchange(
     const UnknownPartition<dim>                &partition,
     const MPI_Comm                              communicator,
-    const std::vector<types::global_dof_index> &shared)
+    const std::vector<types::global_dof_index> &shared,
+    const LoadBalancing                         load_balancing,
+    const double                                band_fraction)
     : comm(communicator)
     , n_procs(Utilities::MPI::n_mpi_processes(communicator))
     , rank(Utilities::MPI::this_mpi_process(communicator))
@@ -40,9 +42,88 @@ namespace isoimpact
                            std::to_string(n_procs) + " MPI ranks"));
     const types::global_dof_index n =
       partition.owned_unknowns(0).size(); // the index space
+    cells_here.resize(partition.n_cells());
+    for (unsigned int c = 0; c < cells_here.size(); ++c)
+      cells_here[c] = partition.cell_owner(c) == rank;
+    owned_here.assign(n, 0);
+    owned_by_rank.resize(n_procs);
+    n_owned_by_rank.resize(n_procs);
+
+    if (n_procs == 2 && load_balancing != LoadBalancing::off)
+      {
+        // The band: the interface layers of each part, nearest first, up
+        // to band_fraction of the part's unknowns.
+        balancing                = load_balancing;
+        const auto &layer        = partition.interface_layers();
+        const auto  layer_counts = [&](const unsigned int part) {
+          std::vector<std::size_t> counts;
+          for (types::global_dof_index i = 0; i < n; ++i)
+            {
+              const int s = layer[i];
+              if ((part == 0) != (s <= 0) ||
+                  std::abs(s) ==
+                    UnknownPartition<dim>::interface_layer_unreached)
+                continue;
+              const std::size_t d = part == 0 ? -s : s - 1;
+              if (d >= counts.size())
+                counts.resize(d + 1, 0);
+              ++counts[d];
+            }
+          return counts;
+        };
+        const auto band_depth = [&](const unsigned int part) {
+          const auto  counts = layer_counts(part);
+          const auto  size   = partition.owned_unknowns(part).n_elements();
+          std::size_t sum = 0, depth = 0;
+          // At least one layer; the deepest stays, so that a rank never
+          // owns nothing.
+          while (depth + 1 < counts.size() &&
+                 (depth == 0 || sum + counts[depth] <= band_fraction * size))
+            sum += counts[depth++];
+          return int(depth);
+        };
+        min_split = -band_depth(0);
+        max_split = band_depth(1);
+        layer_lists.resize(max_split - min_split + 2);
+        std::vector<std::vector<types::global_dof_index>> fixed(2);
+        for (types::global_dof_index i = 0; i < n; ++i)
+          {
+            const int s = layer[i];
+            if (s >= min_split && s <= max_split + 1)
+              layer_lists[s - min_split].push_back(i);
+            if (s <= min_split)
+              fixed[0].push_back(i);
+            else if (s > max_split)
+              fixed[1].push_back(i);
+          }
+        // The rows each rank may own: its fixed ones and the band's
+        // layers it may take (rank 0 those <= max_split, rank 1 those
+        // > min_split).
+        for (unsigned int p = 0; p < 2; ++p)
+          {
+            potential_rows[p] = fixed[p];
+            for (int s = min_split + 1; s <= max_split; ++s)
+              potential_rows[p].insert(potential_rows[p].end(),
+                                       layer_lists[s - min_split].begin(),
+                                       layer_lists[s - min_split].end());
+            std::sort(potential_rows[p].begin(), potential_rows[p].end());
+          }
+        owner_of.assign(n, 0);
+        for (const auto i : fixed[1])
+          owner_of[i] = 1;
+        for (int s = 1; s <= max_split; ++s)
+          for (const auto i : layer_lists[s - min_split])
+            owner_of[i] = 1;
+        shared_unknowns = shared;
+        for (const auto i : shared)
+          layer_of_shared.push_back(layer[i]);
+        cost_per_row.assign(2, 0.);
+        set_up_split();
+        return;
+      }
+
     // The ghosts of every rank (each rank computes all of them alike).
     std::vector<std::vector<types::global_dof_index>> ghosts_of(n_procs);
-    owned_by_rank.resize(n_procs);
     for (unsigned int p = 0; p < n_procs; ++p)
       {
         IndexSet needed = partition.relevant_unknowns(p);
@@ -52,15 +133,13 @@ namespace isoimpact
         needed.subtract_set(partition.owned_unknowns(p));
         needed.fill_index_vector(ghosts_of[p]);
         partition.owned_unknowns(p).fill_index_vector(owned_by_rank[p]);
+        n_owned_by_rank[p] = owned_by_rank[p].size();
       }
-    owned  = owned_by_rank[rank];
-    ghosts = ghosts_of[rank];
-    owned_here.assign(n, 0);
+    owned   = owned_by_rank[rank];
+    n_owned = owned.size();
+    ghosts  = ghosts_of[rank];
     for (const auto i : owned)
       owned_here[i] = 1;
-    cells_here.resize(partition.n_cells());
-    for (unsigned int c = 0; c < cells_here.size(); ++c)
-      cells_here[c] = partition.cell_owner(c) == rank;
     for (const auto i : owned)
       if (!ranges.empty() && ranges.back().second == i)
         ++ranges.back().second;
@@ -83,6 +162,48 @@ namespace isoimpact
         send_lists.push_back(std::move(to_send));
         receive_lists.push_back(std::move(to_receive));
       }
+  }
+
+  void
+  UnknownExchange::set_up_split()
+  {
+    // Owned, in ascending order (the serial pass's order of the rows):
+    // rank 0 the layers <= present_split, rank 1 the others.
+    for (unsigned int p = 0; p < 2; ++p)
+      owned_by_rank[p].clear();
+    for (types::global_dof_index i = 0; i < owner_of.size(); ++i)
+      owned_by_rank[owner_of[i]].push_back(i);
+    for (unsigned int p = 0; p < 2; ++p)
+      n_owned_by_rank[p] = owned_by_rank[p].size();
+    owned   = owned_by_rank[rank];
+    n_owned = owned.size();
+    ranges.clear();
+    for (types::global_dof_index i = 0; i < owner_of.size(); ++i)
+      {
+        owned_here[i] = owner_of[i] == rank;
+        if (!owned_here[i])
+          continue;
+        if (!ranges.empty() && ranges.back().second == i)
+          ++ranges.back().second;
+        else
+          ranges.emplace_back(i, i + 1);
+      }
+    // Rank 0 reads layer present_split + 1 of rank 1, rank 1 layer
+    // present_split of rank 0, both the shared unknowns the other owns.
+    const auto needs_of = [&](const unsigned int p) {
+      std::vector<types::global_dof_index> needs =
+        layer_lists[present_split + (p == 0 ? 1 : 0) - min_split];
+      for (std::size_t k = 0; k < shared_unknowns.size(); ++k)
+        if ((layer_of_shared[k] <= present_split) != (p == 0))
+          needs.push_back(shared_unknowns[k]);
+      std::sort(needs.begin(), needs.end());
+      needs.erase(std::unique(needs.begin(), needs.end()), needs.end());
+      return needs;
+    };
+    ghosts        = needs_of(rank);
+    peers         = {1 - rank};
+    send_lists    = {needs_of(1 - rank)};
+    receive_lists = {ghosts};
   }
 
   bool
@@ -109,10 +230,172 @@ namespace isoimpact
     return comm;
   }
 
-  const std::vector<types::global_dof_index> &
+  ArrayView<const types::global_dof_index>
   UnknownExchange::owned_unknowns() const
   {
-    return owned;
+    return make_array_view(owned.data(), owned.data() + n_owned);
+  }
+
+  std::vector<types::global_dof_index>
+  UnknownExchange::rows_to_store() const
+  {
+    return balancing == LoadBalancing::off ? owned : potential_rows[rank];
+  }
+
+  bool
+  UnknownExchange::balances_load() const
+  {
+    return balancing != LoadBalancing::off;
+  }
+
+  int
+  UnknownExchange::split() const
+  {
+    return present_split;
+  }
+
+  std::pair<int, int>
+  UnknownExchange::split_bounds() const
+  {
+    return {min_split, max_split};
+  }
+
+  unsigned int
+  UnknownExchange::n_moves() const
+  {
+    return moves;
+  }
+
+  std::vector<types::global_dof_index>
+  UnknownExchange::owned_counts() const
+  {
+    return {n_owned_by_rank.begin(), n_owned_by_rank.end()};
+  }
+
+  const std::vector<double> &
+  UnknownExchange::pass_time_per_row() const
+  {
+    return cost_per_row;
+  }
+
+  void
+  UnknownExchange::observe_pass_times(const std::vector<double> &seconds)
+  {
+    if (balancing == LoadBalancing::off)
+      return;
+    AssertDimension(seconds.size(), 2);
+    if (balancing == LoadBalancing::sweep)
+      {
+        if (present_split + sweep_direction > max_split ||
+            present_split + sweep_direction < min_split)
+          sweep_direction = -sweep_direction;
+        next_split =
+          std::clamp(present_split + sweep_direction, min_split, max_split);
+        return;
+      }
+    // The time per owned row of each rank, averaged over about twenty
+    // steps (the first five, with their page faults, left out).
+    if (++n_observations <= 5)
+      return;
+    constexpr double weight = 0.05;
+    for (unsigned int p = 0; p < 2; ++p)
+      {
+        const double cost =
+          seconds[p] / std::max<std::size_t>(n_owned_by_rank[p], 1);
+        cost_per_row[p] = (n_observations == 6) ?
+                            cost :
+                            cost_per_row[p] + weight * (cost - cost_per_row[p]);
+      }
+    next_split = present_split;
+    if (!(cost_per_row[0] > 0. && cost_per_row[1] > 0.) ||
+        n_observations < last_move_observation + 20)
+      return;
+    // The split of the least predicted time max(c0 n0, c1 n1); moved to
+    // only if it saves 2 % (the times of single steps scatter by more than
+    // a layer's share, which is about 0.5 % at 1e6 unknowns).
+    const auto predicted = [&](const double rows_0) {
+      const double rows_1 =
+        double(n_owned_by_rank[0] + n_owned_by_rank[1]) - rows_0;
+      return std::max(cost_per_row[0] * rows_0, cost_per_row[1] * rows_1);
+    };
+    const double present = predicted(n_owned_by_rank[0]);
+    double       best    = present;
+    double       rows_0  = n_owned_by_rank[0];
+    for (int s = present_split + 1; s <= max_split; ++s)
+      {
+        rows_0 += layer_lists[s - min_split].size();
+        if (predicted(rows_0) < best)
+          {
+            best       = predicted(rows_0);
+            next_split = s;
+          }
+      }
+    rows_0 = n_owned_by_rank[0];
+    for (int s = present_split; s > min_split; --s)
+      {
+        rows_0 -= layer_lists[s - min_split].size();
+        if (predicted(rows_0) < best)
+          {
+            best       = predicted(rows_0);
+            next_split = s - 1;
+          }
+      }
+    if (best > 0.98 * present)
+      next_split = present_split;
+    else
+      last_move_observation = n_observations;
+  }
+
+  void
+  UnknownExchange::apply_split(const std::vector<Vector<double> *> &state)
+  {
+    if (balancing == LoadBalancing::off || next_split == present_split)
+      return;
+    // The layers that change hands, from their old owner.
+    const int           low  = std::min(present_split, next_split) + 1;
+    const int           high = std::max(present_split, next_split);
+    const unsigned int  from = next_split > present_split ? 1 : 0;
+    std::vector<double> buffer;
+    for (int s = low; s <= high; ++s)
+      buffer.resize(buffer.size() +
+                    state.size() * layer_lists[s - min_split].size());
+    if (rank == from)
+      {
+        std::size_t k = 0;
+        for (const auto *vector : state)
+          for (int s = low; s <= high; ++s)
+            for (const auto i : layer_lists[s - min_split])
+              buffer[k++] = (*vector)[i];
+        const int ierr = MPI_Send(buffer.data(),
+                                  buffer.size(),
+                                  MPI_DOUBLE,
+                                  1 - rank,
+                                  4710,
+                                  comm);
+        AssertThrowMPI(ierr);
+      }
+    else
+      {
+        const int ierr = MPI_Recv(buffer.data(),
+                                  buffer.size(),
+                                  MPI_DOUBLE,
+                                  1 - rank,
+                                  4710,
+                                  comm,
+                                  MPI_STATUS_IGNORE);
+        AssertThrowMPI(ierr);
+        std::size_t k = 0;
+        for (auto *vector : state)
+          for (int s = low; s <= high; ++s)
+            for (const auto i : layer_lists[s - min_split])
+              (*vector)[i] = buffer[k++];
+      }
+    for (int s = low; s <= high; ++s)
+      for (const auto i : layer_lists[s - min_split])
+        owner_of[i] = 1 - from;
+    present_split = next_split;
+    ++moves;
+    set_up_split();
   }
 
   const std::vector<types::global_dof_index> &
@@ -232,12 +515,12 @@ namespace isoimpact
     std::vector<int> counts(n_procs), offsets(n_procs + 1, 0);
     for (unsigned int p = 0; p < n_procs; ++p)
       {
-        counts[p]      = owned_by_rank[p].size();
+        counts[p]      = n_owned_by_rank[p];
         offsets[p + 1] = offsets[p] + counts[p];
       }
     gather_buffer.resize(offsets[n_procs]);
-    std::vector<double> mine(owned.size());
-    for (std::size_t j = 0; j < owned.size(); ++j)
+    std::vector<double> mine(n_owned);
+    for (std::size_t j = 0; j < n_owned; ++j)
       mine[j] = vector[owned[j]];
     const int ierr = MPI_Allgatherv(mine.data(),
                                     mine.size(),
@@ -249,7 +532,7 @@ namespace isoimpact
                                     comm);
     AssertThrowMPI(ierr);
     for (unsigned int p = 0; p < n_procs; ++p)
-      for (std::size_t j = 0; j < owned_by_rank[p].size(); ++j)
+      for (std::size_t j = 0; j < n_owned_by_rank[p]; ++j)
         vector[owned_by_rank[p][j]] = gather_buffer[offsets[p] + j];
   }
 
@@ -285,5 +568,7 @@ namespace isoimpact
   template UnknownExchange::UnknownExchange(
     const UnknownPartition<2> &,
     const MPI_Comm,
-    const std::vector<types::global_dof_index> &);
+    const std::vector<types::global_dof_index> &,
+    const LoadBalancing,
+    const double);
 } // namespace isoimpact

@@ -101,6 +101,64 @@ namespace isoimpact
         relevant[p].compress();
         owned[p].compress();
       }
+
+    // Two parts: breadth-first layers from the interface, each part's
+    // within itself (a shortest path to the other part crosses none).
+    if (n_parts == 2)
+      {
+        std::vector<std::vector<unsigned int>>            cells_of(n_unknowns);
+        std::vector<std::vector<types::global_dof_index>> unknowns_of(n_cells);
+        for (const auto &cell :
+             discretization.dof_handler().active_cell_iterators())
+          {
+            const unsigned int c = cell->active_cell_index();
+            discretization.get_dof_indices(cell, unknowns_of[c]);
+            for (const auto i : unknowns_of[c])
+              cells_of[i].push_back(c);
+          }
+        constexpr int                        unset = interface_layer_unreached;
+        std::vector<int>                     distance(n_unknowns, unset);
+        std::vector<types::global_dof_index> front, next;
+        for (unsigned int c = 0; c < n_cells; ++c)
+          {
+            bool both = false;
+            for (const auto i : unknowns_of[c])
+              both |= unknown_owners[i] != unknown_owners[unknowns_of[c][0]];
+            if (both)
+              for (const auto i : unknowns_of[c])
+                if (distance[i] == unset)
+                  {
+                    distance[i] = 0;
+                    front.push_back(i);
+                  }
+          }
+        for (int d = 1; !front.empty(); ++d)
+          {
+            next.clear();
+            for (const auto i : front)
+              for (const auto c : cells_of[i])
+                for (const auto j : unknowns_of[c])
+                  if (distance[j] == unset &&
+                      unknown_owners[j] == unknown_owners[i])
+                    {
+                      distance[j] = d;
+                      next.push_back(j);
+                    }
+            front.swap(next);
+          }
+        layers.resize(n_unknowns);
+        for (types::global_dof_index i = 0; i < n_unknowns; ++i)
+          layers[i] = unknown_owners[i] == 0 ?
+                        -distance[i] :
+                        (distance[i] == unset ? unset : 1 + distance[i]);
+      }
+  }
+
+  template <int dim>
+  const std::vector<int> &
+  UnknownPartition<dim>::interface_layers() const
+  {
+    return layers;
   }
 
   template <int dim>

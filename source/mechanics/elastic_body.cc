@@ -8,6 +8,7 @@
 
 #include <isoimpact/mechanics/elastic_body.h>
 
+#include <chrono>
 #include <cmath>
 #include <random>
 
@@ -100,12 +101,28 @@ namespace isoimpact
         const unsigned int n_ranks =
           Utilities::MPI::n_mpi_processes(ranks->communicator);
         partition.emplace(disc, n_ranks);
-        row_exchange =
-          UnknownExchange(*partition, ranks->communicator, ranks->shared);
+        // Load balancing needs the fused lumped step on owned rows.
+        bool fused_step_possible = scheme != MassScheme::consistent &&
+                                   !ranks->whole_state && !ranks->shared_rows;
+        for (const auto &line : body_constraints.get_lines())
+          if (!line.entries.empty() || line.inhomogeneity != 0.)
+            fused_step_possible = false;
+        const bool balancing = fused_step_possible && n_ranks == 2 &&
+                               ranks->load_balancing != LoadBalancing::off;
+        row_exchange            = UnknownExchange(*partition,
+                                       ranks->communicator,
+                                       ranks->shared,
+                                       balancing ? ranks->load_balancing :
+                                                              LoadBalancing::off);
         const unsigned int rank = row_exchange.this_rank();
-        // The rows: the owned unknowns', and with shared_rows the shared
-        // unknowns' (on every rank).
-        IndexSet rows = partition->owned_unknowns(rank);
+        // The rows: those the rank may own (with load balancing, the
+        // band of the other rank's rows too), and with shared_rows the
+        // shared unknowns' (on every rank).
+        IndexSet rows(disc.n_dofs());
+        {
+          const auto stored = row_exchange.rows_to_store();
+          rows.add_indices(stored.begin(), stored.end());
+        }
         if (ranks->shared_rows)
           rows.add_indices(ranks->shared.begin(), ranks->shared.end());
         rows.compress();
@@ -120,15 +137,15 @@ namespace isoimpact
           {
             const unsigned int c = cell->active_cell_index();
             contributes[c]       = partition->is_assembly_cell(c, rank);
-            if (contributes[c] ||
-                (body_constraints.n_constraints() == 0 && !ranks->shared_rows))
+            if (contributes[c] || (body_constraints.n_constraints() == 0 &&
+                                   !ranks->shared_rows && !balancing))
               continue;
             disc.get_dof_indices(cell, indices);
             for (const auto i : indices)
               {
                 // (A cell that is not an assembly cell carries no owned
                 // unknown.)
-                if (ranks->shared_rows)
+                if (ranks->shared_rows || balancing)
                   contributes[c] |= rows.is_element(i);
                 if (const auto *entries =
                       body_constraints.get_constraint_entries(i))
@@ -375,10 +392,15 @@ namespace isoimpact
       }
     if (row_exchange.is_distributed())
       {
+        // Load balancing: the pass's time decides the next split.
+        const auto start = std::chrono::steady_clock::now();
         if (form_whole_step_state)
           fused_step<true, true>(f, half_step_velocity, dt);
         else
           fused_step<false, true>(f, half_step_velocity, dt);
+        last_pass_seconds = std::chrono::duration<double>(
+                              std::chrono::steady_clock::now() - start)
+                              .count();
       }
     else if (form_whole_step_state)
       fused_step<true, false>(f, half_step_velocity, dt);
@@ -559,17 +581,39 @@ namespace isoimpact
           partial.push_back(body);
           sums.push_back(body->step_energies->kinetic);
           sums.push_back(body->step_energies->strain);
+          // Each rank's pass time in its own slot: the sum gathers them.
+          if (body->row_exchange.balances_load())
+            for (unsigned int p = 0; p < body->row_exchange.n_ranks(); ++p)
+              sums.push_back(p == body->row_exchange.this_rank() ?
+                               body->last_pass_seconds :
+                               0.);
         }
     if (partial.empty())
       return;
     // Every rank has the same bodies with partial energies (the same
     // scene, the same steps).
     partial[0]->row_exchange.sum(sums);
-    for (unsigned int k = 0; k < partial.size(); ++k)
+    std::size_t k = 0;
+    for (auto *body : partial)
       {
-        partial[k]->step_energies             = {sums[2 * k], sums[2 * k + 1]};
-        partial[k]->step_energies_are_partial = false;
+        body->step_energies             = {sums[k], sums[k + 1]};
+        body->step_energies_are_partial = false;
+        k += 2;
+        if (body->row_exchange.balances_load())
+          {
+            const unsigned int n = body->row_exchange.n_ranks();
+            body->row_exchange.observe_pass_times(
+              std::vector<double>(sums.begin() + k, sums.begin() + k + n));
+            k += n;
+          }
       }
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::apply_load_balancing(Vector<double> &half_step_velocity)
+  {
+    row_exchange.apply_split({&displacement, &half_step_velocity});
   }
 
   template <int dim>

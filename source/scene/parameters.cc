@@ -274,6 +274,18 @@ namespace isoimpact
                       "Radius of the locally refined zone, m.");
     prm.leave_subsection();
 
+    prm.enter_subsection("Parallel");
+    prm.declare_entry(
+      "Load balancing",
+      "measured",
+      Patterns::Selection("measured|off|sweep"),
+      "On 2 MPI ranks with lumped mass: the rows near the ranks' interface "
+      "move between them at run time towards equal times per step "
+      "(measured), stay where the partition put them (off), or move one "
+      "layer per step back and forth (sweep: a check of the machinery). "
+      "The motion has the same bits in every case.");
+    prm.leave_subsection();
+
     prm.enter_subsection("Mass matrix");
     prm.declare_entry("Scheme",
                       "HRZ",
@@ -556,6 +568,16 @@ namespace isoimpact
 
     prm.enter_subsection("Mass matrix");
     mass_scheme = mass_scheme_names.from_string(prm.get("Scheme"));
+    prm.leave_subsection();
+
+    prm.enter_subsection("Parallel");
+    {
+      const std::string balancing = prm.get("Load balancing");
+      load_balancing              = balancing == "off" ?
+                                      LoadBalancing::off :
+                                      (balancing == "sweep" ? LoadBalancing::sweep :
+                                                              LoadBalancing::measured);
+    }
     prm.leave_subsection();
 
     prm.enter_subsection("Contact");

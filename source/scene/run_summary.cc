@@ -279,6 +279,25 @@ namespace isoimpact
                {"max_contact_evaluations_per_step", w.max_evaluations},
                {"max_relative_residual", w.max_residual_ratio}};
       }
+    // Several MPI ranks: each body's split at the end (load balancing).
+    summary["mpi_ranks"]   = n_world_ranks();
+    summary["rank_splits"] = nlohmann::ordered_json::array();
+    for (const auto &body : scene.bodies)
+      {
+        const UnknownExchange &exchange = body->exchange();
+        if (!exchange.is_distributed())
+          continue;
+        summary["rank_splits"].push_back(
+          {{"body", body->name()},
+           {"unknowns", body->n_dofs()},
+           {"load_balancing", exchange.balances_load()},
+           {"split_layers", exchange.split()},
+           {"split_bounds_layers",
+            {exchange.split_bounds().first, exchange.split_bounds().second}},
+           {"moves", exchange.n_moves()},
+           {"owned_unknowns_per_rank", exchange.owned_counts()},
+           {"pass_time_per_row_s", exchange.pass_time_per_row()}});
+      }
     summary["symmetry_factor"] = scene.symmetry_factor;
     summary["obstacle"]        = parameters.obstacle.type;
 

@@ -435,6 +435,7 @@ namespace isoimpact
                                            parameters.bipenalty ||
                                              parameters.mass_redistribution,
                                            parameters.mass_redistribution});
+            ranks->load_balancing = parameters.load_balancing;
             for (const auto &segment : discretization->boundary_segments(
                    BodyGeometry::curved_boundary_id))
               for (const auto &node : segment.node_dofs)

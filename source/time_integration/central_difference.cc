@@ -184,7 +184,11 @@ namespace isoimpact
     // of all bodies come from their owners in one round of messages (no
     // messages on one process).
     for (unsigned int b = 0; b < bodies.size(); ++b)
-      bodies[b]->advance_displacement(half_step_velocity[b], dt);
+      {
+        bodies[b]->advance_displacement(half_step_velocity[b], dt);
+        // Load balancing: rows move between the ranks (collective).
+        bodies[b]->apply_load_balancing(half_step_velocity[b]);
+      }
     UnknownExchange::update_ghost_values(ghost_vectors);
     compute_accelerations(record_contact_points, true, form_whole_step_state);
     // The bodies' step energies summed over the ranks in one message.

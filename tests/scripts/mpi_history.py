@@ -94,6 +94,24 @@ for case in sys.argv[4:]:
                                                               f"{label}_{ranks}_ranks", ranks)
     check_true(f"{label}: the {ranks}-rank run says it runs on {ranks} ranks",
                f"{ranks} MPI ranks" in stdout)
+    # Load balancing: the sweep moves each body's rows at every step after
+    # the first, within bounds that hold layers on both sides.
+    splits = parallel_summary["rank_splits"]
+    check_true(f"{label}: a split reported per body", len(splits) == len(serial_masses) >= 1)
+    balancing = edits.get("Parallel/Load balancing", "measured")
+    for split in splits:
+        if balancing in ("off", "sweep"):
+            check_true(f"{label}: {split['body']}: load balancing {balancing}",
+                       split["load_balancing"] == (balancing == "sweep"))
+        if balancing == "sweep":
+            low, high = split["split_bounds_layers"]
+            check_true(f"{label}: {split['body']}: the band has layers on both sides "
+                       f"({low}, {high})", low < 0 < high)
+            check_close(f"{label}: {split['body']}: moves of the sweep",
+                        split["moves"], parallel_summary["steps"] - 1, 0)
+            check_close(f"{label}: {split['body']}: owned unknowns of the ranks add up to "
+                        f"the body's", sum(split["owned_unknowns_per_rank"]),
+                        split["unknowns"], 0)
     check_true(f"{label}: the progress is printed once (rank 0)",
                stdout.count("max energy error") == 1)
     check_true(f"{label}: both histories have the same rows",

@@ -5,12 +5,14 @@
 #ifndef isoimpact_unknown_exchange_h
 #define isoimpact_unknown_exchange_h
 
+#include <deal.II/base/array_view.h>
 #include <deal.II/base/mpi.h>
 
 #include <deal.II/lac/vector.h>
 
 #include <isoimpact/discretization/unknown_partition.h>
 
+#include <array>
 #include <utility>
 #include <vector>
 
@@ -22,6 +24,21 @@ namespace isoimpact
   n_world_ranks();
   unsigned int
   world_rank();
+
+  /**
+   * Load balancing of a split over 2 ranks (doc/parallel.md, session 17):
+   * the ranks' rows near their interface move between them at run time.
+   * measured: after each step's passes, towards equal pass times (the
+   * ranks' cores and memory run at unequal speeds for a whole run);
+   * sweep: one layer of rows per step, back and forth over the whole band
+   * (a check of the machinery; the motion has the same bits either way).
+   */
+  enum class LoadBalancing
+  {
+    off,
+    measured,
+    sweep
+  };
 
   class UnknownExchange
   {
@@ -35,10 +52,19 @@ namespace isoimpact
      * surfaces') that another rank owns. Every rank evaluates the same
      * partition, so each knows what to send to whom without asking.
      */
+    /**
+     * With `balancing` (2 ranks only, else ignored) the unknowns of the
+     * partition's interface layers (UnknownPartition::interface_layers())
+     * up to `band_fraction` of each part's unknowns (at least one layer)
+     * may move to the other
+     * rank: rows_to_store() lists them with the owned ones.
+     */
     template <int dim>
     UnknownExchange(const UnknownPartition<dim> &partition,
                     const MPI_Comm               communicator,
-                    const std::vector<dealii::types::global_dof_index> &shared);
+                    const std::vector<dealii::types::global_dof_index> &shared,
+                    const LoadBalancing balancing     = LoadBalancing::off,
+                    const double        band_fraction = 0.15);
 
     bool
     is_distributed() const;
@@ -49,9 +75,8 @@ namespace isoimpact
     MPI_Comm
     communicator() const;
 
-    // The unknowns this rank owns and its ghosts (both sorted; empty on one
-    // process).
-    const std::vector<dealii::types::global_dof_index> &
+    // The unknowns this rank owns and its ghosts (empty on one process).
+    dealii::ArrayView<const dealii::types::global_dof_index>
     owned_unknowns() const;
     const std::vector<dealii::types::global_dof_index> &
     ghost_unknowns() const;
@@ -59,6 +84,38 @@ namespace isoimpact
     const std::vector<std::pair<dealii::types::global_dof_index,
                                 dealii::types::global_dof_index>> &
     owned_ranges() const;
+    // The rows this rank may own (sorted): the rows of the stiffness to
+    // build (the owned ones without load balancing).
+    std::vector<dealii::types::global_dof_index>
+    rows_to_store() const;
+
+    // Load balancing (collective calls, every rank alike).
+    bool
+    balances_load() const;
+    // The next split from every rank's time of this step's pass over its
+    // rows (seconds, in rank order; the same values on every rank).
+    void
+    observe_pass_times(const std::vector<double> &seconds);
+    // Moves the rows to the split observe_pass_times() chose: their entries
+    // of `state` (each vector whole-sized) go to their new owner, and the
+    // ghost lists follow. Nothing to do if the split is unchanged.
+    void
+    apply_split(const std::vector<dealii::Vector<double> *> &state);
+    // The present split (0: the partition's; > 0: rank 0 owns that many
+    // layers of rank 1's part; < 0: the reverse), its bounds, the moves.
+    int
+    split() const;
+    std::pair<int, int>
+    split_bounds() const;
+    unsigned int
+    n_moves() const;
+    // Owned unknowns of every rank at the present split.
+    std::vector<dealii::types::global_dof_index>
+    owned_counts() const;
+    // Measured load balancing: every rank's averaged pass time per owned
+    // row (s), as the last choice of the split saw it.
+    const std::vector<double> &
+    pass_time_per_row() const;
     // Whether this rank owns an unknown (every unknown on one process).
     bool
     is_owned(const dealii::types::global_dof_index unknown) const;
@@ -87,10 +144,12 @@ namespace isoimpact
     max(const double value) const;
 
   private:
-    MPI_Comm                                     comm    = MPI_COMM_SELF;
-    unsigned int                                 n_procs = 1;
-    unsigned int                                 rank    = 0;
+    MPI_Comm     comm    = MPI_COMM_SELF;
+    unsigned int n_procs = 1;
+    unsigned int rank    = 0;
+    // The owned unknowns (sorted) and the ghosts.
     std::vector<dealii::types::global_dof_index> owned, ghosts;
+    std::size_t                                  n_owned = 0;
     std::vector<unsigned char>                   owned_here;
     std::vector<unsigned char>                   cells_here; // several ranks
     std::vector<std::pair<dealii::types::global_dof_index,
@@ -100,8 +159,30 @@ namespace isoimpact
     std::vector<unsigned int>                                 peers;
     std::vector<std::vector<dealii::types::global_dof_index>> send_lists,
       receive_lists;
-    // For gather(): every rank's owned unknowns, sorted.
+    // For gather(): every rank's owned unknowns (ordered as `owned`), and
+    // how many of them it owns now.
     std::vector<std::vector<dealii::types::global_dof_index>> owned_by_rank;
+    std::vector<std::size_t>                                  n_owned_by_rank;
+    // Load balancing over 2 ranks (see LoadBalancing): the layers
+    // layer_lists[s - first_layer] (sorted), s = first_layer ..
+    // first_layer + size - 1 = min_split .. max_split + 1; rank 0 owns the
+    // layers <= present_split, rank 1 the others. The shared unknowns with
+    // their layers. The controller: the mean time per owned row of each
+    // rank (exponential average).
+    LoadBalancing balancing = LoadBalancing::off;
+    int min_split = 0, max_split = 0, present_split = 0, next_split = 0,
+        sweep_direction                                             = 1;
+    unsigned int                                              moves = 0;
+    std::vector<int>                                          layer_of_shared;
+    std::vector<dealii::types::global_dof_index>              shared_unknowns;
+    std::vector<std::vector<dealii::types::global_dof_index>> layer_lists;
+    std::vector<unsigned char> owner_of; // per unknown: 0 or 1
+    std::array<std::vector<dealii::types::global_dof_index>, 2> potential_rows;
+    std::vector<double>                                         cost_per_row;
+    unsigned int n_observations = 0, last_move_observation = 0;
+    // Lists, ranges and counts for the present split.
+    void
+    set_up_split();
     // Posts the receives and sends of `vector` (tag `tag`) into `requests`
     // with buffers of its own; finish_update() unpacks after the wait.
     void

@@ -63,6 +63,21 @@ namespace isoimpact
     std::vector<dealii::types::global_dof_index>
     part_major_numbering() const;
 
+    /**
+     * Two parts only (empty otherwise): the signed layer of every unknown
+     * from the parts' interface in the graph of unknowns that share a cell
+     * (the stiffness's graph): 0, -1, -2, ... in part 0 (0 next to part
+     * 1), 1, 2, ... in part 1 (1 next to part 0). Coupled unknowns differ
+     * by at most one layer, so the unknowns with layer <= s and > s form
+     * another split of the same kind, whose ghosts are layer s + 1 and
+     * layer s (UnknownExchange's load balancing). An unknown of a part
+     * that does not touch the other keeps the largest magnitude
+     * (interface_layer_unreached).
+     */
+    const std::vector<int>                      &
+    interface_layers() const;
+    static constexpr int interface_layer_unreached = 1 << 30;
+
     // An index set of the unknowns, renumbered by `numbering`.
     static dealii::IndexSet
     renumber(const dealii::IndexSet                             &unknowns,
@@ -73,6 +88,7 @@ namespace isoimpact
     std::vector<unsigned int>              unknown_owners;
     std::vector<dealii::IndexSet>          owned, relevant;
     std::vector<std::vector<unsigned int>> assembly_cells; // sorted
+    std::vector<int>                       layers;
   };
 } // namespace isoimpact
 

@@ -37,6 +37,9 @@ namespace isoimpact
     std::vector<dealii::types::global_dof_index> shared;
     bool                                         whole_state = false;
     bool                                         shared_rows = false;
+    // 2 ranks, lumped mass, no hanging nodes, no whole_state: rows move
+    // between the ranks at run time (UnknownExchange).
+    LoadBalancing load_balancing = LoadBalancing::off;
   };
 
   template <int dim>
@@ -240,9 +243,16 @@ namespace isoimpact
     advance_displacement(const dealii::Vector<double> &half_step_velocity,
                          const double                  dt);
     // On several ranks: the energies of the bodies' last steps summed over
-    // the ranks in one message (the ranks wait for each other once).
+    // the ranks in one message (the ranks wait for each other once); with
+    // load balancing the message also carries each rank's time of its
+    // pass, from which every rank chooses the same next split.
     static void
     sum_step_energies(const std::vector<ElasticBody<dim> *> &bodies);
+    // Load balancing: the rows move to the split chosen by the last
+    // sum_step_energies() (their displacement and the half-step velocity
+    // go along). Before the ghost exchange of a step; collective.
+    void
+    apply_load_balancing(dealii::Vector<double> &half_step_velocity);
     // Displacement, velocity and acceleration complete on every rank (for
     // the output; nothing on one process).
     void
@@ -311,6 +321,7 @@ namespace isoimpact
     mutable std::optional<StepEnergies> step_energies;
     // On several ranks: step_energies holds this rank's part only.
     mutable bool                      step_energies_are_partial = false;
+    double                            last_pass_seconds         = 0.;
     mutable std::vector<StepEnergies> block_energies;
     // Bipenalty: the condensed penalty masses in use and a dense scratch.
     std::vector<std::pair<dealii::types::global_dof_index, double>>
@@ -318,8 +329,8 @@ namespace isoimpact
     dealii::Vector<double> penalty_scratch, previous_penalty_scratch;
     bool                   penalty_momentum_switching = true;
     // The rows this rank computes and its ghosts (serial: all, none).
-    UnknownExchange row_exchange;
-    bool            replicated_state = false;
+    mutable UnknownExchange row_exchange;
+    bool                    replicated_state = false;
   };
 } // namespace isoimpact
 

@@ -8,6 +8,7 @@
 #include <deal.II/base/tensor.h>
 
 #include <isoimpact/discretization/discretization.h>
+#include <isoimpact/discretization/unknown_exchange.h>
 #include <isoimpact/mechanics/assembly.h>
 #include <isoimpact/mechanics/contact.h>
 #include <isoimpact/mechanics/material.h>
@@ -72,7 +73,9 @@ namespace isoimpact
     FEAElement           fea_element = FEAElement::lagrange;
     unsigned int         degree      = 2;
 
-    MassScheme      mass_scheme = MassScheme::hrz;
+    MassScheme mass_scheme = MassScheme::hrz;
+    // Parallel/Load balancing (2 MPI ranks).
+    LoadBalancing   load_balancing = LoadBalancing::measured;
     ContactSettings contact;
     // Penalty = auto (Contact/Penalty, and Obstacle/Penalty for an
     // obstacle): k = penalty_scale_factor mu / dt^2 (scene.cc).
