@@ -329,8 +329,8 @@ namespace isoimpact
     dealii::Vector<double> penalty_scratch, previous_penalty_scratch;
     bool                   penalty_momentum_switching = true;
     // The rows this rank computes and its ghosts (serial: all, none).
-    mutable UnknownExchange row_exchange;
-    bool                    replicated_state = false;
+    UnknownExchange row_exchange;
+    bool            replicated_state = false;
   };
 } // namespace isoimpact
 
