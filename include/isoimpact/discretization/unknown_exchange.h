@@ -163,12 +163,12 @@ namespace isoimpact
     // how many of them it owns now.
     std::vector<std::vector<dealii::types::global_dof_index>> owned_by_rank;
     std::vector<std::size_t>                                  n_owned_by_rank;
-    // Load balancing over 2 ranks (see LoadBalancing): the layers
-    // layer_lists[s - first_layer] (sorted), s = first_layer ..
-    // first_layer + size - 1 = min_split .. max_split + 1; rank 0 owns the
-    // layers <= present_split, rank 1 the others. The shared unknowns with
-    // their layers. The controller: the mean time per owned row of each
-    // rank (exponential average).
+    // Load balancing over 2 ranks (see LoadBalancing): layer_lists[s -
+    // min_split] holds the unknowns of layer s (sorted), s = min_split ..
+    // max_split + 1; rank 0 owns the layers <= present_split, rank 1 the
+    // others (owner_of). The shared unknowns with their layers. The
+    // controller: the mean time per owned row of each rank (exponential
+    // average).
     LoadBalancing balancing = LoadBalancing::off;
     int min_split = 0, max_split = 0, present_split = 0, next_split = 0,
         sweep_direction                                             = 1;
