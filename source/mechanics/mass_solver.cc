@@ -15,6 +15,7 @@
 #include <numeric>
 #include <string>
 #include <tuple>
+#include <vector>
 
 using namespace dealii;
 
@@ -118,16 +119,64 @@ namespace isoimpact
       return A;
     }
 
-    // Supernode s of a supernodal factor: columns [k1, k1 + n_cols) as a
-    // dense column-major block of n_rows rows, the diagonal block (rows
-    // k1...) first, then the n_below rows `rows` below it.
+    // A supernodal factor's values as the substitutions read them, in the
+    // order of the forward substitution: per supernode (columns [k1, k1 +
+    // n_cols), n_below rows below its diagonal block) first the diagonal
+    // block's columns from their diagonal down (n_cols - j values for
+    // column j), then the rows below (column-major, n_below per column).
+    // CHOLMOD's block also stores the upper triangle, and its columns are
+    // read with gaps; this copy has neither.
+    struct PackedValues
+    {
+      std::vector<double>      values;
+      std::vector<std::size_t> offset; // per supernode, and the end
+
+      void
+      pack(const cholmod_factor &L)
+      {
+        const auto *super = static_cast<const int *>(L.super);
+        const auto *pi    = static_cast<const int *>(L.pi);
+        const auto *px    = static_cast<const int *>(L.px);
+        const auto *x     = static_cast<const double *>(L.x);
+        offset.assign(L.nsuper + 1, 0);
+        for (std::size_t s = 0; s < L.nsuper; ++s)
+          {
+            const std::size_t n_cols = super[s + 1] - super[s];
+            const std::size_t n_rows = pi[s + 1] - pi[s];
+            offset[s + 1]            = offset[s] + n_cols * (n_cols + 1) / 2 +
+                            (n_rows - n_cols) * n_cols;
+          }
+        values.resize(offset.back());
+        for (std::size_t s = 0; s < L.nsuper; ++s)
+          {
+            const std::size_t n_cols = super[s + 1] - super[s];
+            const std::size_t n_rows = pi[s + 1] - pi[s];
+            const double     *block  = x + px[s];
+            double           *target = values.data() + offset[s];
+            for (std::size_t j = 0; j < n_cols; ++j)
+              target = std::copy(block + j * n_rows + j,
+                                 block + j * n_rows + n_cols,
+                                 target);
+            for (std::size_t j = 0; j < n_cols; ++j)
+              target = std::copy(block + j * n_rows + n_cols,
+                                 block + (j + 1) * n_rows,
+                                 target);
+          }
+      }
+    };
+
+    // Supernode s of a supernodal factor: columns [k1, k1 + n_cols), the
+    // diagonal block's rows k1... first, then the n_below rows `rows`
+    // below it; values from PackedValues.
     struct Supernode
     {
       int           k1, n_cols, n_rows, n_below;
       const int    *rows;
-      const double *block;
+      const double *triangle, *lower;
 
-      Supernode(const cholmod_factor &L, const int s)
+      Supernode(const cholmod_factor &L,
+                const PackedValues   &packed,
+                const int             s)
       {
         const auto *super = static_cast<const int *>(L.super);
         const auto *pi    = static_cast<const int *>(L.pi);
@@ -136,14 +185,24 @@ namespace isoimpact
         n_rows            = pi[s + 1] - pi[s];
         n_below           = n_rows - n_cols;
         rows              = static_cast<const int *>(L.s) + pi[s] + n_cols;
-        block =
-          static_cast<const double *>(L.x) + static_cast<const int *>(L.px)[s];
+        triangle          = packed.values.data() + packed.offset[s];
+        lower             = triangle + std::size_t(n_cols) * (n_cols + 1) / 2;
       }
 
+      // Column j of the diagonal block from its diagonal down: entry r - j
+      // is row k1 + r.
       const double *
-      column(const int j) const
+      diagonal_column(const int j) const
       {
-        return block + std::size_t(j) * n_rows;
+        return triangle + std::size_t(j) * n_cols -
+               std::size_t(j) * (j - 1) / 2;
+      }
+
+      // Column j's rows below the diagonal block (n_below values).
+      const double *
+      below_column(const int j) const
+      {
+        return lower + std::size_t(j) * n_below;
       }
     };
 
@@ -178,6 +237,7 @@ namespace isoimpact
     template <int nc>
     void
     forward(const cholmod_factor &L,
+            const PackedValues   &packed,
             const int             s_begin,
             const int             s_end,
             double *__restrict y,
@@ -187,20 +247,20 @@ namespace isoimpact
     {
       for (int s = s_begin; s < s_end; ++s)
         {
-          const Supernode node(L, s);
+          const Supernode node(L, packed, s);
           double *__restrict z = y + std::size_t(node.k1) * nc;
           for (int i = 0; i < node.n_below * nc; ++i)
             work[i] = 0.;
           for (int j = 0; j < node.n_cols; ++j)
             {
-              const double *__restrict column = node.column(j);
+              const double *__restrict column = node.diagonal_column(j);
               double zj[nc];
               for (int c = 0; c < nc; ++c)
-                zj[c] = (z[j * nc + c] /= column[j]);
+                zj[c] = (z[j * nc + c] /= column[0]);
               for (int r = j + 1; r < node.n_cols; ++r)
                 for (int c = 0; c < nc; ++c)
-                  z[r * nc + c] -= column[r] * zj[c];
-              const double *__restrict lower = column + node.n_cols;
+                  z[r * nc + c] -= column[r - j] * zj[c];
+              const double *__restrict lower = node.below_column(j);
               for (int r = 0; r < node.n_below; ++r)
                 for (int c = 0; c < nc; ++c)
                   work[r * nc + c] += lower[r] * zj[c];
@@ -226,6 +286,7 @@ namespace isoimpact
     template <int nc>
     void
     backward(const cholmod_factor &L,
+             const PackedValues   &packed,
              const int             s_begin,
              const int             s_end,
              double *__restrict y,
@@ -233,18 +294,18 @@ namespace isoimpact
     {
       for (int s = s_end - 1; s >= s_begin; --s)
         {
-          const Supernode node(L, s);
+          const Supernode node(L, packed, s);
           // The supernodes are visited against their storage order, which
           // the hardware prefetch does not follow: ask for the start of the
-          // next one's block.
+          // next one's values.
           if (s > s_begin)
             {
-              const Supernode   next(L, s - 1);
               const std::size_t n_values =
-                std::min<std::size_t>(std::size_t(next.n_rows) * next.n_cols,
+                std::min<std::size_t>(packed.offset[s] - packed.offset[s - 1],
                                       1024);
               for (std::size_t k = 0; k < n_values; k += 8)
-                __builtin_prefetch(next.block + k);
+                __builtin_prefetch(packed.values.data() + packed.offset[s - 1] +
+                                   k);
             }
           double *__restrict x = y + std::size_t(node.k1) * nc;
           for (int r = 0; r < node.n_below; ++r)
@@ -256,23 +317,20 @@ namespace isoimpact
               double *sum = below_sums + j * nc;
               for (int c = 0; c < nc; ++c)
                 sum[c] = 0.;
-              add_dots<nc>(node.column(j) + node.n_cols,
-                           work,
-                           node.n_below,
-                           sum);
+              add_dots<nc>(node.below_column(j), work, node.n_below, sum);
             }
           for (int j = node.n_cols - 1; j >= 0; --j)
             {
-              const double *__restrict column = node.column(j);
+              const double *__restrict column = node.diagonal_column(j);
               double sum[nc];
               for (int c = 0; c < nc; ++c)
                 sum[c] = below_sums[j * nc + c];
-              add_dots<nc>(column + j + 1,
+              add_dots<nc>(column + 1,
                            x + (j + 1) * nc,
                            node.n_cols - j - 1,
                            sum);
               for (int c = 0; c < nc; ++c)
-                x[j * nc + c] = (x[j * nc + c] - sum[c]) / column[j];
+                x[j * nc + c] = (x[j * nc + c] - sum[c]) / column[0];
             }
         }
     }
@@ -307,8 +365,10 @@ namespace isoimpact
   // One factor and the components that share it.
   struct ComponentMassSolver::Factor
   {
-    cholmod_common  common;
+    cholmod_common common;
+    // The factor's structure (its values moved to `packed`).
     cholmod_factor *L = nullptr;
+    PackedValues    packed;
     // Components sharing the factor.
     unsigned int n_components = 0;
     // Row k of the factor, its c-th component, is unknown
@@ -688,6 +748,10 @@ namespace isoimpact
                                std::to_string(cm->status) + ")"));
         AssertThrow(factor->L->is_super && factor->L->is_ll,
                     ExcMessage("CHOLMOD returned no supernodal mass factor"));
+        factor->packed.pack(*factor->L);
+        factor->L->x =
+          cholmod_free(factor->L->xsize, sizeof(double), factor->L->x, cm);
+        factor->L->xsize = 0;
 
         // Components, in the order of the group.
         const auto *ordering = static_cast<const int *>(factor->L->Perm);
@@ -721,7 +785,9 @@ namespace isoimpact
         // The rows below a supernode, and one sum per column (backward).
         int max_columns = 0;
         for (std::size_t s = 0; s < factor->L->nsuper; ++s)
-          max_columns = std::max(max_columns, Supernode(*factor->L, s).n_cols);
+          max_columns =
+            std::max(max_columns,
+                     Supernode(*factor->L, factor->packed, s).n_cols);
         factor->below.assign(factor->n_tasks() + 1,
                              std::vector<double>(
                                (factor->L->maxesize + max_columns) * nc));
@@ -754,6 +820,7 @@ namespace isoimpact
             double *updates = factor.separator_updates.data() + t * n_shared;
             std::fill(updates, updates + n_shared, 0.);
             forward<nc>(L,
+                        factor.packed,
                         factor.task_begin[t],
                         factor.task_begin[t + 1],
                         y,
@@ -779,6 +846,7 @@ namespace isoimpact
           }
       }
     forward<nc>(L,
+                factor.packed,
                 n_tasks > 1 ? split : 0,
                 n_super,
                 y,
@@ -791,6 +859,7 @@ namespace isoimpact
       for (std::size_t k = factor.leading[c]; k < L.n; ++k)
         y[k * nc + c] = 0.;
     backward<nc>(L,
+                 factor.packed,
                  n_tasks > 1 ? split : 0,
                  n_super,
                  y,
@@ -801,6 +870,7 @@ namespace isoimpact
         for (unsigned int t = first_task; t < end_task; ++t)
           tasks += Threads::new_task([&factor, &L, y, t]() {
             backward<nc>(L,
+                         factor.packed,
                          factor.task_begin[t],
                          factor.task_begin[t + 1],
                          y,
@@ -898,7 +968,7 @@ namespace isoimpact
   {
     std::size_t entries = 0;
     for (const auto &factor : factors)
-      entries += factor->L->xsize;
+      entries += factor->packed.values.size();
     return entries;
   }
 
@@ -911,7 +981,9 @@ namespace isoimpact
         const cholmod_factor *L = factor->L;
         // Values, supernode patterns and pointers, permutation; gather
         // indices and the work arrays of the solve.
-        bytes += L->xsize * sizeof(double) + L->ssize * sizeof(int) +
+        bytes += factor->packed.values.size() * sizeof(double) +
+                 factor->packed.offset.size() * sizeof(std::size_t) +
+                 L->ssize * sizeof(int) +
                  (3 * L->nsuper + 3 + L->n) * sizeof(int) +
                  factor->gather.size() * sizeof(Index) +
                  factor->y.size() * sizeof(double);
