@@ -130,6 +130,11 @@ namespace isoimpact
     {
       std::vector<double>      values;
       std::vector<std::size_t> offset; // per supernode, and the end
+      // The same values in the order of the backward substitution:
+      // supernodes last first, each with its rows below (column-major)
+      // first, then the diagonal block's columns last first.
+      std::vector<double>      backward_values;
+      std::vector<std::size_t> backward_offset; // per supernode
 
       void
       pack(const cholmod_factor &L)
@@ -162,6 +167,24 @@ namespace isoimpact
                                  block + (j + 1) * n_rows,
                                  target);
           }
+        backward_values.resize(offset.back());
+        backward_offset.assign(L.nsuper, 0);
+        double *target = backward_values.data();
+        for (std::size_t s = L.nsuper; s-- > 0;)
+          {
+            const std::size_t n_cols = super[s + 1] - super[s];
+            const std::size_t n_rows = pi[s + 1] - pi[s];
+            const double     *block  = x + px[s];
+            backward_offset[s]       = target - backward_values.data();
+            for (std::size_t j = 0; j < n_cols; ++j)
+              target = std::copy(block + j * n_rows + n_cols,
+                                 block + (j + 1) * n_rows,
+                                 target);
+            for (std::size_t j = n_cols; j-- > 0;)
+              target = std::copy(block + j * n_rows + j,
+                                 block + j * n_rows + n_cols,
+                                 target);
+          }
       }
     };
 
@@ -172,7 +195,7 @@ namespace isoimpact
     {
       int           k1, n_cols, n_rows, n_below;
       const int    *rows;
-      const double *triangle, *lower;
+      const double *triangle, *lower, *backward_lower, *backward_triangle;
 
       Supernode(const cholmod_factor &L,
                 const PackedValues   &packed,
@@ -187,6 +210,23 @@ namespace isoimpact
         rows              = static_cast<const int *>(L.s) + pi[s] + n_cols;
         triangle          = packed.values.data() + packed.offset[s];
         lower             = triangle + std::size_t(n_cols) * (n_cols + 1) / 2;
+        backward_lower =
+          packed.backward_values.data() + packed.backward_offset[s];
+        backward_triangle = backward_lower + std::size_t(n_below) * n_cols;
+      }
+
+      // As below_column() and diagonal_column(), from the backward copy.
+      const double *
+      backward_below_column(const int j) const
+      {
+        return backward_lower + std::size_t(j) * n_below;
+      }
+
+      const double *
+      backward_diagonal_column(const int j) const
+      {
+        const std::size_t after = n_cols - j - 1;
+        return backward_triangle + after * (after + 1) / 2;
       }
 
       // Column j of the diagonal block from its diagonal down: entry r - j
@@ -295,18 +335,6 @@ namespace isoimpact
       for (int s = s_end - 1; s >= s_begin; --s)
         {
           const Supernode node(L, packed, s);
-          // The supernodes are visited against their storage order, which
-          // the hardware prefetch does not follow: ask for the start of the
-          // next one's values.
-          if (s > s_begin)
-            {
-              const std::size_t n_values =
-                std::min<std::size_t>(packed.offset[s] - packed.offset[s - 1],
-                                      1024);
-              for (std::size_t k = 0; k < n_values; k += 8)
-                __builtin_prefetch(packed.values.data() + packed.offset[s - 1] +
-                                   k);
-            }
           double *__restrict x = y + std::size_t(node.k1) * nc;
           for (int r = 0; r < node.n_below; ++r)
             for (int c = 0; c < nc; ++c)
@@ -317,11 +345,15 @@ namespace isoimpact
               double *sum = below_sums + j * nc;
               for (int c = 0; c < nc; ++c)
                 sum[c] = 0.;
-              add_dots<nc>(node.below_column(j), work, node.n_below, sum);
+              add_dots<nc>(node.backward_below_column(j),
+                           work,
+                           node.n_below,
+                           sum);
             }
           for (int j = node.n_cols - 1; j >= 0; --j)
             {
-              const double *__restrict column = node.diagonal_column(j);
+              const double *__restrict column =
+                node.backward_diagonal_column(j);
               double sum[nc];
               for (int c = 0; c < nc; ++c)
                 sum[c] = below_sums[j * nc + c];
@@ -979,10 +1011,15 @@ namespace isoimpact
     for (const auto &factor : factors)
       {
         const cholmod_factor *L = factor->L;
-        // Values, supernode patterns and pointers, permutation; gather
-        // indices and the work arrays of the solve.
-        bytes += factor->packed.values.size() * sizeof(double) +
-                 factor->packed.offset.size() * sizeof(std::size_t) +
+        // Values (twice: in the forward and the backward order), supernode
+        // patterns and pointers, permutation; gather indices and the work
+        // arrays of the solve.
+        bytes += (factor->packed.values.size() +
+                  factor->packed.backward_values.size()) *
+                   sizeof(double) +
+                 (factor->packed.offset.size() +
+                  factor->packed.backward_offset.size()) *
+                   sizeof(std::size_t) +
                  L->ssize * sizeof(int) +
                  (3 * L->nsuper + 3 + L->n) * sizeof(int) +
                  factor->gather.size() * sizeof(Index) +
