@@ -47,7 +47,6 @@ namespace isoimpact
       cells_here[c] = partition.cell_owner(c) == rank;
     owned_here.assign(n, 0);
     owned_by_rank.resize(n_procs);
-    n_owned_by_rank.resize(n_procs);
 
     if (n_procs == 2 && load_balancing != LoadBalancing::off)
       {
@@ -96,18 +95,14 @@ namespace isoimpact
             else if (s > max_split)
               fixed[1].push_back(i);
           }
-        // The rows each rank may own: its fixed ones and the band's
-        // layers it may take (rank 0 those <= max_split, rank 1 those
-        // > min_split).
-        for (unsigned int p = 0; p < 2; ++p)
-          {
-            potential_rows[p] = fixed[p];
-            for (int s = min_split + 1; s <= max_split; ++s)
-              potential_rows[p].insert(potential_rows[p].end(),
-                                       layer_lists[s - min_split].begin(),
-                                       layer_lists[s - min_split].end());
-            std::sort(potential_rows[p].begin(), potential_rows[p].end());
-          }
+        // The rows this rank may own: its fixed ones and the band's
+        // layers min_split + 1 ... max_split, which either rank may take.
+        potential_rows = fixed[rank];
+        for (int s = min_split + 1; s <= max_split; ++s)
+          potential_rows.insert(potential_rows.end(),
+                                layer_lists[s - min_split].begin(),
+                                layer_lists[s - min_split].end());
+        std::sort(potential_rows.begin(), potential_rows.end());
         owner_of.assign(n, 0);
         for (const auto i : fixed[1])
           owner_of[i] = 1;
@@ -133,14 +128,11 @@ namespace isoimpact
         needed.subtract_set(partition.owned_unknowns(p));
         needed.fill_index_vector(ghosts_of[p]);
         partition.owned_unknowns(p).fill_index_vector(owned_by_rank[p]);
-        n_owned_by_rank[p] = owned_by_rank[p].size();
       }
-    owned   = owned_by_rank[rank];
-    n_owned = owned.size();
-    ghosts  = ghosts_of[rank];
-    for (const auto i : owned)
+    ghosts = ghosts_of[rank];
+    for (const auto i : owned_by_rank[rank])
       owned_here[i] = 1;
-    for (const auto i : owned)
+    for (const auto i : owned_by_rank[rank])
       if (!ranges.empty() && ranges.back().second == i)
         ++ranges.back().second;
       else
@@ -173,10 +165,6 @@ namespace isoimpact
       owned_by_rank[p].clear();
     for (types::global_dof_index i = 0; i < owner_of.size(); ++i)
       owned_by_rank[owner_of[i]].push_back(i);
-    for (unsigned int p = 0; p < 2; ++p)
-      n_owned_by_rank[p] = owned_by_rank[p].size();
-    owned   = owned_by_rank[rank];
-    n_owned = owned.size();
     ranges.clear();
     for (types::global_dof_index i = 0; i < owner_of.size(); ++i)
       {
@@ -233,13 +221,16 @@ namespace isoimpact
   ArrayView<const types::global_dof_index>
   UnknownExchange::owned_unknowns() const
   {
-    return make_array_view(owned.data(), owned.data() + n_owned);
+    if (owned_by_rank.empty())
+      return {};
+    return make_array_view(owned_by_rank[rank]);
   }
 
   std::vector<types::global_dof_index>
   UnknownExchange::rows_to_store() const
   {
-    return balancing == LoadBalancing::off ? owned : potential_rows[rank];
+    return balancing == LoadBalancing::off ? owned_by_rank[rank] :
+                                             potential_rows;
   }
 
   bool
@@ -269,7 +260,10 @@ namespace isoimpact
   std::vector<types::global_dof_index>
   UnknownExchange::owned_counts() const
   {
-    return {n_owned_by_rank.begin(), n_owned_by_rank.end()};
+    std::vector<types::global_dof_index> counts;
+    for (const auto &rows : owned_by_rank)
+      counts.push_back(rows.size());
+    return counts;
   }
 
   const std::vector<double> &
@@ -301,7 +295,7 @@ namespace isoimpact
     for (unsigned int p = 0; p < 2; ++p)
       {
         const double cost =
-          seconds[p] / std::max<std::size_t>(n_owned_by_rank[p], 1);
+          seconds[p] / std::max<std::size_t>(owned_by_rank[p].size(), 1);
         cost_per_row[p] = (n_observations == 6) ?
                             cost :
                             cost_per_row[p] + weight * (cost - cost_per_row[p]);
@@ -315,12 +309,12 @@ namespace isoimpact
     // a layer's share, which is about 0.5 % at 1e6 unknowns).
     const auto predicted = [&](const double rows_0) {
       const double rows_1 =
-        double(n_owned_by_rank[0] + n_owned_by_rank[1]) - rows_0;
+        double(owned_by_rank[0].size() + owned_by_rank[1].size()) - rows_0;
       return std::max(cost_per_row[0] * rows_0, cost_per_row[1] * rows_1);
     };
-    const double present = predicted(n_owned_by_rank[0]);
+    const double present = predicted(owned_by_rank[0].size());
     double       best    = present;
-    double       rows_0  = n_owned_by_rank[0];
+    double       rows_0  = owned_by_rank[0].size();
     for (int s = present_split + 1; s <= max_split; ++s)
       {
         rows_0 += layer_lists[s - min_split].size();
@@ -330,7 +324,7 @@ namespace isoimpact
             next_split = s;
           }
       }
-    rows_0 = n_owned_by_rank[0];
+    rows_0 = owned_by_rank[0].size();
     for (int s = present_split; s > min_split; --s)
       {
         rows_0 -= layer_lists[s - min_split].size();
@@ -515,12 +509,13 @@ namespace isoimpact
     std::vector<int> counts(n_procs), offsets(n_procs + 1, 0);
     for (unsigned int p = 0; p < n_procs; ++p)
       {
-        counts[p]      = n_owned_by_rank[p];
+        counts[p]      = owned_by_rank[p].size();
         offsets[p + 1] = offsets[p] + counts[p];
       }
     gather_buffer.resize(offsets[n_procs]);
-    std::vector<double> mine(n_owned);
-    for (std::size_t j = 0; j < n_owned; ++j)
+    const auto         &owned = owned_by_rank[rank];
+    std::vector<double> mine(owned.size());
+    for (std::size_t j = 0; j < owned.size(); ++j)
       mine[j] = vector[owned[j]];
     const int ierr = MPI_Allgatherv(mine.data(),
                                     mine.size(),
@@ -532,7 +527,7 @@ namespace isoimpact
                                     comm);
     AssertThrowMPI(ierr);
     for (unsigned int p = 0; p < n_procs; ++p)
-      for (std::size_t j = 0; j < n_owned_by_rank[p]; ++j)
+      for (std::size_t j = 0; j < owned_by_rank[p].size(); ++j)
         vector[owned_by_rank[p][j]] = gather_buffer[offsets[p] + j];
   }
 

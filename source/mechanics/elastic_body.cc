@@ -35,6 +35,17 @@ namespace isoimpact
       }
     };
 
+    // Whether every constraint is u_i = 0 (rollers; no hanging nodes): then
+    // a lumped-mass step needs no condensation (the fused pass).
+    bool
+    only_zero_constraints(const AffineConstraints<double> &constraints)
+    {
+      for (const auto &line : constraints.get_lines())
+        if (!line.entries.empty() || line.inhomogeneity != 0.)
+          return false;
+      return true;
+    }
+
     // The diagonal and the nonzero entries of `matrix`, in their order, into
     // `compact` on a pattern of their own (`pattern`): a row of `compact`
     // is summed in the order of the same row of `matrix`, without its
@@ -102,11 +113,9 @@ namespace isoimpact
           Utilities::MPI::n_mpi_processes(ranks->communicator);
         partition.emplace(disc, n_ranks);
         // Load balancing needs the fused lumped step on owned rows.
-        bool fused_step_possible = scheme != MassScheme::consistent &&
-                                   !ranks->whole_state && !ranks->shared_rows;
-        for (const auto &line : body_constraints.get_lines())
-          if (!line.entries.empty() || line.inhomogeneity != 0.)
-            fused_step_possible = false;
+        const bool fused_step_possible =
+          scheme != MassScheme::consistent && !ranks->whole_state &&
+          !ranks->shared_rows && only_zero_constraints(body_constraints);
         const bool balancing = fused_step_possible && n_ranks == 2 &&
                                ranks->load_balancing != LoadBalancing::off;
         row_exchange            = UnknownExchange(*partition,
@@ -215,10 +224,7 @@ namespace isoimpact
         // With constraints u_i = 0 alone (rollers, no hanging nodes), the
         // acceleration is a_i = (f - K u)_i / m_i on free rows and 0 on
         // constrained ones: one pass after the mat-vec, no condensation.
-        fused_lumped_step = true;
-        for (const auto &line : body_constraints.get_lines())
-          if (!line.entries.empty() || line.inhomogeneity != 0.)
-            fused_lumped_step = false;
+        fused_lumped_step = only_zero_constraints(body_constraints);
 
         if (fused_lumped_step)
           {

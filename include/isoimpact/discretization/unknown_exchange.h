@@ -12,7 +12,6 @@
 
 #include <isoimpact/discretization/unknown_partition.h>
 
-#include <array>
 #include <utility>
 #include <vector>
 
@@ -147,9 +146,8 @@ namespace isoimpact
     MPI_Comm     comm    = MPI_COMM_SELF;
     unsigned int n_procs = 1;
     unsigned int rank    = 0;
-    // The owned unknowns (sorted) and the ghosts.
-    std::vector<dealii::types::global_dof_index> owned, ghosts;
-    std::size_t                                  n_owned = 0;
+    // The ghosts (sorted).
+    std::vector<dealii::types::global_dof_index> ghosts;
     std::vector<unsigned char>                   owned_here;
     std::vector<unsigned char>                   cells_here; // several ranks
     std::vector<std::pair<dealii::types::global_dof_index,
@@ -159,10 +157,9 @@ namespace isoimpact
     std::vector<unsigned int>                                 peers;
     std::vector<std::vector<dealii::types::global_dof_index>> send_lists,
       receive_lists;
-    // For gather(): every rank's owned unknowns (ordered as `owned`), and
-    // how many of them it owns now.
+    // Every rank's owned unknowns (sorted; this rank's are
+    // owned_unknowns(), all of them serve gather()).
     std::vector<std::vector<dealii::types::global_dof_index>> owned_by_rank;
-    std::vector<std::size_t>                                  n_owned_by_rank;
     // Load balancing over 2 ranks (see LoadBalancing): layer_lists[s -
     // min_split] holds the unknowns of layer s (sorted), s = min_split ..
     // max_split + 1; rank 0 owns the layers <= present_split, rank 1 the
@@ -177,8 +174,9 @@ namespace isoimpact
     std::vector<dealii::types::global_dof_index>              shared_unknowns;
     std::vector<std::vector<dealii::types::global_dof_index>> layer_lists;
     std::vector<unsigned char> owner_of; // per unknown: 0 or 1
-    std::array<std::vector<dealii::types::global_dof_index>, 2> potential_rows;
-    std::vector<double>                                         cost_per_row;
+    // The rows this rank may own (rows_to_store()).
+    std::vector<dealii::types::global_dof_index> potential_rows;
+    std::vector<double>                          cost_per_row;
     unsigned int n_observations = 0, last_move_observation = 0;
     // Lists, ranges and counts for the present split.
     void
