@@ -123,11 +123,17 @@ namespace isoimpact
     // order of the forward substitution: per supernode (columns [k1, k1 +
     // n_cols), n_below rows below its diagonal block) first the diagonal
     // block's columns from their diagonal down (n_cols - j values for
-    // column j), then the rows below (column-major, n_below per column).
+    // column j), then the rows below in groups of rows_per_group rows,
+    // each group column by column (so that one pass over the diagonal
+    // block's solution serves the group's rows).
     // CHOLMOD's block also stores the upper triangle, and its columns are
     // read with gaps; this copy has neither.
     struct PackedValues
     {
+      // The forward substitution's products with the rows below a diagonal
+      // block are formed for this many rows at once.
+      static constexpr int rows_per_group = 4; // forward() switches on 1-4
+
       std::vector<double>      values;
       std::vector<std::size_t> offset; // per supernode, and the end
       // The same values in the order of the backward substitution:
@@ -162,10 +168,17 @@ namespace isoimpact
               target = std::copy(block + j * n_rows + j,
                                  block + j * n_rows + n_cols,
                                  target);
-            for (std::size_t j = 0; j < n_cols; ++j)
-              target = std::copy(block + j * n_rows + n_cols,
-                                 block + (j + 1) * n_rows,
-                                 target);
+            // The rows below in groups of rows_per_group, column by column
+            // within a group (the last, shorter group likewise).
+            for (std::size_t first = n_cols; first < n_rows;
+                 first += rows_per_group)
+              {
+                const std::size_t end =
+                  std::min(n_rows, first + rows_per_group);
+                for (std::size_t j = 0; j < n_cols; ++j)
+                  for (std::size_t r = first; r < end; ++r)
+                    *target++ = block[j * n_rows + r];
+              }
           }
         backward_values.resize(offset.back());
         backward_offset.assign(L.nsuper, 0);
@@ -238,11 +251,13 @@ namespace isoimpact
                std::size_t(j) * (j - 1) / 2;
       }
 
-      // Column j's rows below the diagonal block (n_below values).
+      // The group of rows below the diagonal block that starts at row
+      // `first` (a multiple of rows_per_group): n_cols columns of
+      // min(rows_per_group, n_below - first) values.
       const double *
-      below_column(const int j) const
+      below_group(const int first) const
       {
-        return lower + std::size_t(j) * n_below;
+        return lower + std::size_t(first) * n_cols;
       }
     };
 
@@ -269,11 +284,30 @@ namespace isoimpact
           (partial[0][c] + partial[1][c]) + (partial[2][c] + partial[3][c]);
     }
 
+    // sum[q][c] = sum_j group[j * n_rows + q] z[j * nc + c] for the n_rows
+    // rows of a group, each sum in the order of j (as a column-by-column
+    // update would add them): the group's rows are independent chains.
+    template <int nc, int n_rows>
+    inline void
+    group_products(const double *__restrict group,
+                   const double *__restrict z,
+                   const int n_cols,
+                   double (&sum)[PackedValues::rows_per_group][nc])
+    {
+      double partial[n_rows][nc] = {};
+      for (int j = 0; j < n_cols; ++j)
+        for (int q = 0; q < n_rows; ++q)
+          for (int c = 0; c < nc; ++c)
+            partial[q][c] += group[j * n_rows + q] * z[j * nc + c];
+      for (int q = 0; q < n_rows; ++q)
+        for (int c = 0; c < nc; ++c)
+          sum[q][c] = partial[q][c];
+    }
+
     // Forward substitution L z = y over the supernodes [s_begin, s_end),
     // nc right-hand sides interleaved in y. Updates of rows >=
     // separator_column go to `separator` (a subtree's private share of the
-    // rows its task does not own) instead of y. `work` holds n_below * nc
-    // values.
+    // rows its task does not own) instead of y.
     template <int nc>
     void
     forward(const cholmod_factor &L,
@@ -281,16 +315,14 @@ namespace isoimpact
             const int             s_begin,
             const int             s_end,
             double *__restrict y,
-            double *__restrict work,
             const int separator_column,
             double *__restrict separator)
     {
+      constexpr int group_size = PackedValues::rows_per_group;
       for (int s = s_begin; s < s_end; ++s)
         {
           const Supernode node(L, packed, s);
           double *__restrict z = y + std::size_t(node.k1) * nc;
-          for (int i = 0; i < node.n_below * nc; ++i)
-            work[i] = 0.;
           for (int j = 0; j < node.n_cols; ++j)
             {
               const double *__restrict column = node.diagonal_column(j);
@@ -300,20 +332,47 @@ namespace isoimpact
               for (int r = j + 1; r < node.n_cols; ++r)
                 for (int c = 0; c < nc; ++c)
                   z[r * nc + c] -= column[r - j] * zj[c];
-              const double *__restrict lower = node.below_column(j);
-              for (int r = 0; r < node.n_below; ++r)
-                for (int c = 0; c < nc; ++c)
-                  work[r * nc + c] += lower[r] * zj[c];
             }
-          for (int r = 0; r < node.n_below; ++r)
+          for (int first = 0; first < node.n_below; first += group_size)
             {
-              const int row = node.rows[r];
-              double   *target =
-                row >= separator_column ?
-                    separator + std::size_t(row - separator_column) * nc :
-                    y + std::size_t(row) * nc;
-              for (int c = 0; c < nc; ++c)
-                target[c] -= work[r * nc + c];
+              const int n_rows = std::min(group_size, node.n_below - first);
+              double    sum[group_size][nc];
+              switch (n_rows)
+                {
+                  case 4:
+                    group_products<nc, 4>(node.below_group(first),
+                                          z,
+                                          node.n_cols,
+                                          sum);
+                    break;
+                  case 3:
+                    group_products<nc, 3>(node.below_group(first),
+                                          z,
+                                          node.n_cols,
+                                          sum);
+                    break;
+                  case 2:
+                    group_products<nc, 2>(node.below_group(first),
+                                          z,
+                                          node.n_cols,
+                                          sum);
+                    break;
+                  default:
+                    group_products<nc, 1>(node.below_group(first),
+                                          z,
+                                          node.n_cols,
+                                          sum);
+                }
+              for (int q = 0; q < n_rows; ++q)
+                {
+                  const int row = node.rows[first + q];
+                  double   *target =
+                    row >= separator_column ?
+                        separator + std::size_t(row - separator_column) * nc :
+                        y + std::size_t(row) * nc;
+                  for (int c = 0; c < nc; ++c)
+                    target[c] -= sum[q][c];
+                }
             }
         }
     }
@@ -856,7 +915,6 @@ namespace isoimpact
                         factor.task_begin[t],
                         factor.task_begin[t + 1],
                         y,
-                        factor.below[t].data(),
                         factor.separator_column,
                         updates);
           });
@@ -882,7 +940,6 @@ namespace isoimpact
                 n_tasks > 1 ? split : 0,
                 n_super,
                 y,
-                factor.below[n_tasks].data(),
                 INT_MAX,
                 nullptr);
     // A component's rows outside its leading block take no part in its
