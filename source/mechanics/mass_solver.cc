@@ -121,17 +121,19 @@ namespace isoimpact
 
     // A supernodal factor's values as the substitutions read them, in the
     // order of the forward substitution: per supernode (columns [k1, k1 +
-    // n_cols), n_below rows below its diagonal block) first the diagonal
-    // block's columns from their diagonal down (n_cols - j values for
-    // column j), then the rows below in groups of rows_per_group rows,
-    // each group column by column (so that one pass over the diagonal
-    // block's solution serves the group's rows).
+    // n_cols), n_below rows below its diagonal block) the rows in groups of
+    // rows_per_group, each group column by column (so that one pass over
+    // the solution so far serves the group's rows). First the diagonal
+    // block's lower triangle: per group (rows [f, f + m)) the columns [0,
+    // f), m values each, then the group's own triangle column by column
+    // (the diagonal, then the group's rows below it); then the rows below
+    // the diagonal block, n_cols values per row.
     // CHOLMOD's block also stores the upper triangle, and its columns are
     // read with gaps; this copy has neither.
     struct PackedValues
     {
-      // The forward substitution's products with the rows below a diagonal
-      // block are formed for this many rows at once.
+      // The forward substitution forms its products for this many rows at
+      // once.
       static constexpr int rows_per_group = 4; // forward() switches on 1-4
 
       std::vector<double>      values;
@@ -164,10 +166,18 @@ namespace isoimpact
             const std::size_t n_rows = pi[s + 1] - pi[s];
             const double     *block  = x + px[s];
             double           *target = values.data() + offset[s];
-            for (std::size_t j = 0; j < n_cols; ++j)
-              target = std::copy(block + j * n_rows + j,
-                                 block + j * n_rows + n_cols,
-                                 target);
+            // Entry (row r, column j) of the block is block[j * n_rows + r].
+            for (std::size_t first = 0; first < n_cols; first += rows_per_group)
+              {
+                const std::size_t end =
+                  std::min(n_cols, first + rows_per_group);
+                for (std::size_t j = 0; j < first; ++j)
+                  for (std::size_t r = first; r < end; ++r)
+                    *target++ = block[j * n_rows + r];
+                for (std::size_t j = first; j < end; ++j)
+                  for (std::size_t r = j; r < end; ++r)
+                    *target++ = block[j * n_rows + r];
+              }
             // The rows below in groups of rows_per_group, column by column
             // within a group (the last, shorter group likewise).
             for (std::size_t first = n_cols; first < n_rows;
@@ -228,7 +238,9 @@ namespace isoimpact
         backward_triangle = backward_lower + std::size_t(n_below) * n_cols;
       }
 
-      // As below_column() and diagonal_column(), from the backward copy.
+      // Column j's rows below the diagonal block, and column j of the
+      // diagonal block from its diagonal down (entry r - j is row k1 + r),
+      // from the backward copy.
       const double *
       backward_below_column(const int j) const
       {
@@ -240,15 +252,6 @@ namespace isoimpact
       {
         const std::size_t after = n_cols - j - 1;
         return backward_triangle + after * (after + 1) / 2;
-      }
-
-      // Column j of the diagonal block from its diagonal down: entry r - j
-      // is row k1 + r.
-      const double *
-      diagonal_column(const int j) const
-      {
-        return triangle + std::size_t(j) * n_cols -
-               std::size_t(j) * (j - 1) / 2;
       }
 
       // The group of rows below the diagonal block that starts at row
@@ -304,6 +307,39 @@ namespace isoimpact
           sum[q][c] = partial[q][c];
     }
 
+    // The forward substitution of the diagonal block's rows [first, first
+    // + m) (stored as PackedValues says, from `values` on), its rows
+    // [0, first) solved already: z of the group's rows in place. Each row
+    // subtracts its products in the order of the columns, as a column by
+    // column update would: the group's rows are independent chains until
+    // their own triangle. Returns the end of the group's values.
+    template <int nc, int m>
+    inline const double *
+    triangle_group(const double *__restrict values,
+                   double *__restrict z,
+                   const int first)
+    {
+      double partial[m][nc];
+      for (int q = 0; q < m; ++q)
+        for (int c = 0; c < nc; ++c)
+          partial[q][c] = z[(first + q) * nc + c];
+      for (int j = 0; j < first; ++j)
+        for (int q = 0; q < m; ++q)
+          for (int c = 0; c < nc; ++c)
+            partial[q][c] -= values[j * m + q] * z[j * nc + c];
+      values += std::size_t(first) * m;
+      for (int i = 0; i < m; ++i)
+        {
+          const double diagonal = *values++;
+          for (int c = 0; c < nc; ++c)
+            z[(first + i) * nc + c] = (partial[i][c] /= diagonal);
+          for (int q = i + 1; q < m; ++q, ++values)
+            for (int c = 0; c < nc; ++c)
+              partial[q][c] -= *values * partial[i][c];
+        }
+      return values;
+    }
+
     // Forward substitution L z = y over the supernodes [s_begin, s_end),
     // nc right-hand sides interleaved in y. Updates of rows >=
     // separator_column go to `separator` (a subtree's private share of the
@@ -323,16 +359,22 @@ namespace isoimpact
         {
           const Supernode node(L, packed, s);
           double *__restrict z = y + std::size_t(node.k1) * nc;
-          for (int j = 0; j < node.n_cols; ++j)
-            {
-              const double *__restrict column = node.diagonal_column(j);
-              double zj[nc];
-              for (int c = 0; c < nc; ++c)
-                zj[c] = (z[j * nc + c] /= column[0]);
-              for (int r = j + 1; r < node.n_cols; ++r)
-                for (int c = 0; c < nc; ++c)
-                  z[r * nc + c] -= column[r - j] * zj[c];
-            }
+          const double *values = node.triangle;
+          for (int first = 0; first < node.n_cols; first += group_size)
+            switch (std::min(group_size, node.n_cols - first))
+              {
+                case 4:
+                  values = triangle_group<nc, 4>(values, z, first);
+                  break;
+                case 3:
+                  values = triangle_group<nc, 3>(values, z, first);
+                  break;
+                case 2:
+                  values = triangle_group<nc, 2>(values, z, first);
+                  break;
+                default:
+                  values = triangle_group<nc, 1>(values, z, first);
+              }
           for (int first = 0; first < node.n_below; first += group_size)
             {
               const int n_rows = std::min(group_size, node.n_below - first);
