@@ -139,8 +139,9 @@ namespace isoimpact
       std::vector<double>      values;
       std::vector<std::size_t> offset; // per supernode, and the end
       // The same values in the order of the backward substitution:
-      // supernodes last first, each with its rows below (column-major)
-      // first, then the diagonal block's columns last first.
+      // supernodes last first, each with its rows below first (columns
+      // two by two, see Supernode::backward_below_columns()), then the
+      // diagonal block's columns last first.
       std::vector<double>      backward_values;
       std::vector<std::size_t> backward_offset; // per supernode
 
@@ -199,10 +200,15 @@ namespace isoimpact
             const std::size_t n_rows = pi[s + 1] - pi[s];
             const double     *block  = x + px[s];
             backward_offset[s]       = target - backward_values.data();
-            for (std::size_t j = 0; j < n_cols; ++j)
-              target = std::copy(block + j * n_rows + n_cols,
-                                 block + (j + 1) * n_rows,
-                                 target);
+            // The rows below, two columns side by side (row by row), the
+            // last column alone if their number is odd.
+            for (std::size_t j = 0; j < n_cols; j += 2)
+              {
+                const std::size_t n_side = std::min<std::size_t>(2, n_cols - j);
+                for (std::size_t r = n_cols; r < n_rows; ++r)
+                  for (std::size_t k = 0; k < n_side; ++k)
+                    *target++ = block[(j + k) * n_rows + r];
+              }
             for (std::size_t j = n_cols; j-- > 0;)
               target = std::copy(block + j * n_rows + j,
                                  block + j * n_rows + n_cols,
@@ -238,15 +244,17 @@ namespace isoimpact
         backward_triangle = backward_lower + std::size_t(n_below) * n_cols;
       }
 
-      // Column j's rows below the diagonal block, and column j of the
-      // diagonal block from its diagonal down (entry r - j is row k1 + r),
-      // from the backward copy.
+      // Columns j and j + 1 (j even) of the rows below the diagonal block,
+      // from the backward copy: row by row, the two columns' values side by
+      // side (column j alone if it is the last).
       const double *
-      backward_below_column(const int j) const
+      backward_below_columns(const int j) const
       {
         return backward_lower + std::size_t(j) * n_below;
       }
 
+      // Column j of the diagonal block from its diagonal down (entry r - j
+      // is row k1 + r), from the backward copy.
       const double *
       backward_diagonal_column(const int j) const
       {
@@ -305,6 +313,41 @@ namespace isoimpact
       for (int q = 0; q < n_rows; ++q)
         for (int c = 0; c < nc; ++c)
           sum[q][c] = partial[q][c];
+    }
+
+    // add_dots() for two columns whose values a lie side by side (a[2 r]
+    // and a[2 r + 1] in row r): each sum as add_dots() forms it (the same
+    // bits), b read once for both.
+    template <int nc>
+    inline void
+    add_dots_pair(const double *__restrict a,
+                  const double *__restrict b,
+                  const int n,
+                  double *__restrict sum0,
+                  double *__restrict sum1)
+    {
+      double partial0[4][nc] = {}, partial1[4][nc] = {};
+      int    r = 0;
+      for (; r + 4 <= n; r += 4)
+        for (int k = 0; k < 4; ++k)
+          for (int c = 0; c < nc; ++c)
+            {
+              partial0[k][c] += a[2 * (r + k)] * b[(r + k) * nc + c];
+              partial1[k][c] += a[2 * (r + k) + 1] * b[(r + k) * nc + c];
+            }
+      for (; r < n; ++r)
+        for (int c = 0; c < nc; ++c)
+          {
+            partial0[0][c] += a[2 * r] * b[r * nc + c];
+            partial1[0][c] += a[2 * r + 1] * b[r * nc + c];
+          }
+      for (int c = 0; c < nc; ++c)
+        {
+          sum0[c] += (partial0[0][c] + partial0[1][c]) +
+                     (partial0[2][c] + partial0[3][c]);
+          sum1[c] += (partial1[0][c] + partial1[1][c]) +
+                     (partial1[2][c] + partial1[3][c]);
+        }
     }
 
     // The forward substitution of the diagonal block's rows [first, first
@@ -441,16 +484,20 @@ namespace isoimpact
             for (int c = 0; c < nc; ++c)
               work[r * nc + c] = y[std::size_t(node.rows[r]) * nc + c];
           double *__restrict below_sums = work + node.n_below * nc;
-          for (int j = 0; j < node.n_cols; ++j)
-            {
-              double *sum = below_sums + j * nc;
-              for (int c = 0; c < nc; ++c)
-                sum[c] = 0.;
-              add_dots<nc>(node.backward_below_column(j),
+          for (int i = 0; i < node.n_cols * nc; ++i)
+            below_sums[i] = 0.;
+          for (int j = 0; j < node.n_cols; j += 2)
+            if (j + 1 < node.n_cols)
+              add_dots_pair<nc>(node.backward_below_columns(j),
+                                work,
+                                node.n_below,
+                                below_sums + j * nc,
+                                below_sums + (j + 1) * nc);
+            else
+              add_dots<nc>(node.backward_below_columns(j),
                            work,
                            node.n_below,
-                           sum);
-            }
+                           below_sums + j * nc);
           for (int j = node.n_cols - 1; j >= 0; --j)
             {
               const double *__restrict column =
