@@ -465,8 +465,9 @@ namespace isoimpact
     // Backward substitution L^T x = z over the supernodes [s_begin, s_end),
     // last first; the rows below them must be final. `work` holds
     // (n_below + n_cols) * nc values. Each supernode's block is read in
-    // the order it is stored (the products with the rows below, column by
-    // column, first): read backwards, it was the slowest part of the solve.
+    // the order it is stored (the products with the rows below, two
+    // columns at a time, first): read backwards, it was the slowest part of
+    // the solve.
     template <int nc>
     void
     backward(const cholmod_factor &L,
