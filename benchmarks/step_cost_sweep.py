@@ -13,9 +13,16 @@ their run's mat-vec, by the paired ratios, so that a change of the load
 between the runs cancels, and raw), peak memory and the Cholesky factors per
 unknown, and the factorisation's set-up time.
 usage: python3 benchmarks/step_cost_sweep.py [--quick] [--build build]
-  --quick: the two smallest levels of each method only."""
+           [--only "METHOD:LEVEL" ...] [--repeats R]
+  --quick: the two smallest levels of each method only.
+  --only "IGA p2:8": that method and level only (may be repeated).
+  --repeats R: each level's HRZ and consistent runs R times in turn (one
+    table row per run); after the table, the median of the R normalised
+    consistent / HRZ ratios per level, since one run can fall into a slow
+    phase of the machine."""
 import argparse
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -41,7 +48,21 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--build", default=os.path.join(root, "build"))
+    parser.add_argument("--only", action="append", default=[],
+                        metavar="METHOD:LEVEL")
+    parser.add_argument("--repeats", type=int, default=1)
     args = parser.parse_args()
+    if args.repeats < 1:
+        parser.error(f"--repeats {args.repeats}: at least 1 is allowed")
+    selected = set()
+    for item in args.only:
+        method, _, level = item.rpartition(":")
+        if method not in CASES or not level.isdigit() \
+                or int(level) not in CASES[method][1]:
+            parser.error(f"--only {item!r}: allowed are " + ", ".join(
+                f"'{m}:{l}'" for m, (_, ls, _) in CASES.items() for l in ls))
+        selected.add((method, int(level)))
+    normalised_runs = {}
     binary = os.path.join(args.build, "benchmarks", "benchmark_step_cost")
     rounds = 3
     header = ("| method | level | unknowns | mass | step [ns/unknown] "
@@ -54,7 +75,11 @@ def main():
     print("|" + "---|" * (header.count("|") - 1))
     with tempfile.TemporaryDirectory() as work:
         for method, (prm, levels, level_4_unknowns) in CASES.items():
-            for level in (levels[:2] if args.quick else levels):
+            for level, repeat in ((l, k) for l in (levels[:2] if args.quick
+                                                   else levels)
+                                  for k in range(args.repeats)):
+                if selected and (method, level) not in selected:
+                    continue
                 dt = 2.5e-4 / 2 ** (level - 4)
                 # About 2e7 unknown-steps per round, at most 0.6 s of
                 # simulated time in all rounds (inside the impact; a round
@@ -86,6 +111,9 @@ def main():
                     normalised = paired / float(lumped["paired_ratio"])
                     raw = step / float(lumped["step_ns"])
                     consistent = mass == "consistent"
+                    if consistent:
+                        normalised_runs.setdefault((method, level),
+                                                   []).append(normalised)
                     print(f"| {method} | {level} | {r['unknowns']} | {mass} "
                           f"| {step:.1f} | {matvec:.1f} | {ratio:.2f} "
                           f"| {paired:.2f} | {normalised:.2f} | {raw:.2f} "
@@ -99,6 +127,12 @@ def main():
                              f"| {float(r['factor_nnz']):.1f} "
                              f"| {float(r['factor_setup_s']):.2f} |"
                              if consistent else "| - | - | - |"), flush=True)
+    if args.repeats > 1:
+        print()
+        for (method, level), runs in normalised_runs.items():
+            print(f"{method} level {level}: consistent / HRZ (normalised), "
+                  f"median of {len(runs)} runs {statistics.median(runs):.2f}"
+                  " (runs: " + ", ".join(f"{r:.2f}" for r in runs) + ")")
 
 
 if __name__ == "__main__":
