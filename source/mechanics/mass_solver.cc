@@ -15,6 +15,7 @@
 #include <numeric>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 using namespace dealii;
@@ -134,7 +135,7 @@ namespace isoimpact
     {
       // The forward substitution forms its products for this many rows at
       // once.
-      static constexpr int rows_per_group = 4; // forward() switches on 1-4
+      static constexpr int rows_per_group = 4;
 
       std::vector<double>      values;
       std::vector<std::size_t> offset; // per supernode, and the end
@@ -295,6 +296,32 @@ namespace isoimpact
           (partial[0][c] + partial[1][c]) + (partial[2][c] + partial[3][c]);
     }
 
+    // f(std::integral_constant<int, m>()) for a group of m rows, 1 <= m <=
+    // rows_per_group: the kernels below take the group's size as a
+    // template argument, so that their loops over it unroll.
+    template <typename Function>
+    inline void
+    with_group_size(const int m, const Function &f)
+    {
+      static_assert(PackedValues::rows_per_group == 4,
+                    "with_group_size() covers 1 to 4 rows");
+      switch (m)
+        {
+          case 4:
+            f(std::integral_constant<int, 4>());
+            break;
+          case 3:
+            f(std::integral_constant<int, 3>());
+            break;
+          case 2:
+            f(std::integral_constant<int, 2>());
+            break;
+          default:
+            AssertIndexRange(m - 1, 1);
+            f(std::integral_constant<int, 1>());
+        }
+    }
+
     // sum[q][c] = sum_j group[j * n_rows + q] z[j * nc + c] for the n_rows
     // rows of a group, each sum in the order of j (as a column-by-column
     // update would add them): the group's rows are independent chains.
@@ -404,50 +431,23 @@ namespace isoimpact
           double *__restrict z = y + std::size_t(node.k1) * nc;
           const double *values = node.triangle;
           for (int first = 0; first < node.n_cols; first += group_size)
-            switch (std::min(group_size, node.n_cols - first))
-              {
-                case 4:
-                  values = triangle_group<nc, 4>(values, z, first);
-                  break;
-                case 3:
-                  values = triangle_group<nc, 3>(values, z, first);
-                  break;
-                case 2:
-                  values = triangle_group<nc, 2>(values, z, first);
-                  break;
-                default:
-                  values = triangle_group<nc, 1>(values, z, first);
-              }
+            with_group_size(std::min(group_size, node.n_cols - first),
+                            [&](const auto m) {
+                              values =
+                                triangle_group<nc, decltype(m)::value>(values,
+                                                                       z,
+                                                                       first);
+                            });
           for (int first = 0; first < node.n_below; first += group_size)
             {
               const int n_rows = std::min(group_size, node.n_below - first);
               double    sum[group_size][nc];
-              switch (n_rows)
-                {
-                  case 4:
-                    group_products<nc, 4>(node.below_group(first),
-                                          z,
-                                          node.n_cols,
-                                          sum);
-                    break;
-                  case 3:
-                    group_products<nc, 3>(node.below_group(first),
-                                          z,
-                                          node.n_cols,
-                                          sum);
-                    break;
-                  case 2:
-                    group_products<nc, 2>(node.below_group(first),
-                                          z,
-                                          node.n_cols,
-                                          sum);
-                    break;
-                  default:
-                    group_products<nc, 1>(node.below_group(first),
-                                          z,
-                                          node.n_cols,
-                                          sum);
-                }
+              with_group_size(n_rows, [&](const auto m) {
+                group_products<nc, decltype(m)::value>(node.below_group(first),
+                                                       z,
+                                                       node.n_cols,
+                                                       sum);
+              });
               for (int q = 0; q < n_rows; ++q)
                 {
                   const int row = node.rows[first + q];
