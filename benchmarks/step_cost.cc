@@ -8,8 +8,10 @@
 // the step and the mat-vec are also timed in pairs (a step, then the
 // product), and the median of the pairs' ratios is reported beside.
 // The step is the one the program takes between ParaView outputs (no
-// contact points recorded, the whole-step velocity not formed); the output
-// step (both) is timed apart, n_steps / 4 per round, the fastest round.
+// contact points recorded, the whole-step velocity not formed), with the
+// kinetic energy that the program's stability monitor reads after every
+// step; the output step (both) is timed apart, n_steps / 4 per round, the
+// fastest round.
 // Memory: the peak resident set of the process (VmHWM) and, for consistent
 // mass, the Cholesky factors. The last line, "RESULT key=value ...", is read
 // by benchmarks/step_cost_sweep.py.
@@ -87,6 +89,7 @@ main(int argc, char **argv)
       // a change of the machine's load hits both alike: the median of these
       // paired ratios is the figure that noise moves least.
       std::vector<double> paired_ratios;
+      double              kinetic_energy_sum = 0.; // printed: not optimised out
       for (unsigned int round = 0; round < rounds; ++round)
         {
           double round_steps = 0., round_matvecs = 0.;
@@ -94,6 +97,7 @@ main(int argc, char **argv)
             {
               timer.restart();
               integrator.advance(false, false);
+              kinetic_energy_sum += integrator.kinetic_energy();
               const double one_step = timer.wall_time();
               timer.restart();
               for (unsigned int b = 0; b < scene.bodies.size(); ++b)
@@ -112,7 +116,10 @@ main(int argc, char **argv)
           // quarter as many, so that the rounds stay inside the impact.
           timer.restart();
           for (unsigned int step = 0; step < n_output_steps; ++step)
-            integrator.advance(true, true);
+            {
+              integrator.advance(true, true);
+              kinetic_energy_sum += integrator.kinetic_energy();
+            }
           output_step_time =
             std::min(output_step_time, timer.wall_time() / n_output_steps);
 
@@ -175,7 +182,10 @@ main(int argc, char **argv)
                 << to_string(parameters.mass_scheme) << ", " << rounds
                 << " rounds of " << n_steps << " steps, contact "
                 << (contact_on ? "on" : "OFF")
-                << " at the end (t = " << integrator.time() << " s)\n"
+                << " at the end (t = " << integrator.time()
+                << " s), mean kinetic energy of the steps timed "
+                << kinetic_energy_sum / (rounds * (n_steps + n_output_steps))
+                << " J/m\n"
                 << "set-up (scene)       " << setup_time << " s\n";
       if (factor_nonzeros > 0)
         std::cout << "mass factorisation   " << factor_setup << " s, "

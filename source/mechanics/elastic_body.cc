@@ -46,6 +46,34 @@ namespace isoimpact
       return true;
     }
 
+    // row_terms(k, sums) for the rows k < n in blocks of a fixed size over
+    // the threads, each block's sums into block_sums: added in block order
+    // they have the same bits whatever the threads.
+    template <typename Sums, typename RowTerms>
+    void
+    sum_by_blocks(const std::size_t  n,
+                  std::vector<Sums> &block_sums,
+                  const RowTerms    &row_terms)
+    {
+      constexpr std::size_t block_size = 4096;
+      const std::size_t     n_blocks   = (n + block_size - 1) / block_size;
+      block_sums.resize(n_blocks);
+      parallel::apply_to_subranges(
+        std::size_t(0),
+        n_blocks,
+        [&](const std::size_t first_block, const std::size_t end_block) {
+          for (std::size_t block = first_block; block < end_block; ++block)
+            {
+              const std::size_t end = std::min(n, (block + 1) * block_size);
+              Sums              sums;
+              for (std::size_t k = block * block_size; k < end; ++k)
+                row_terms(k, sums);
+              block_sums[block] = sums;
+            }
+        },
+        1);
+    }
+
     // The diagonal and the nonzero entries of `matrix`, in their order, into
     // `compact` on a pattern of their own (`pattern`): a row of `compact`
     // is summed in the order of the same row of `matrix`, without its
@@ -393,7 +421,10 @@ namespace isoimpact
             velocity = half_step_velocity;
             velocity.add(0.5 * dt, acceleration);
           }
-        half_step_velocity.add(dt, acceleration);
+        if (mass_solver && cg_tolerance == 0. && !row_exchange.is_distributed())
+          advance_velocity_with_mass_times_velocity(f, half_step_velocity, dt);
+        else
+          half_step_velocity.add(dt, acceleration);
         return;
       }
     if (row_exchange.is_distributed())
@@ -412,6 +443,59 @@ namespace isoimpact
       fused_step<true, false>(f, half_step_velocity, dt);
     else
       fused_step<false, false>(f, half_step_velocity, dt);
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::restart_steps()
+  {
+    velocity_of_mass_product = nullptr;
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::advance_velocity_with_mass_times_velocity(
+    const Vector<double> &r,
+    Vector<double>       &half_step_velocity,
+    const double          dt)
+  {
+    if (velocity_of_mass_product != &half_step_velocity)
+      {
+        mass_times_half_step_velocity.reinit(n_dofs());
+        mass_vmult(mass_times_half_step_velocity, half_step_velocity);
+        velocity_of_mass_product = &half_step_velocity;
+      }
+    // M a = r on the free rows (the solve), r = 0 on the constrained ones,
+    // where M v^{n+1/2} (of v constrained zero) is zero too. The kinetic
+    // energy's constrained terms are then zero; the strain energy's are
+    // taken out as in strain_energy_of_last_acceleration().
+    const double *a   = acceleration.data();
+    const double *rhs = r.data();
+    const double *u   = displacement.data();
+    const double *ku  = stiffness_times_u.data();
+    double       *vh  = half_step_velocity.data();
+    double       *mv  = mass_times_half_step_velocity.data();
+    sum_by_blocks(n_dofs(),
+                  block_energies,
+                  [&](const std::size_t i, StepEnergies &sums) {
+                    const double previous = vh[i];
+                    vh[i]                 = previous + dt * a[i];
+                    mv[i] += dt * rhs[i];
+                    sums.kinetic += previous * mv[i];
+                    sums.strain += u[i] * ku[i];
+                  });
+    StepEnergies energies;
+    for (const auto &block : block_energies)
+      {
+        energies.kinetic += block.kinetic;
+        energies.strain += block.strain;
+      }
+    for (const auto &line : body_constraints.get_lines())
+      energies.strain -= u[line.index] * ku[line.index];
+    energies.kinetic *= 0.5;
+    energies.strain *= 0.5;
+    step_energies             = energies;
+    step_energies_are_partial = false;
   }
 
   template <int dim>
@@ -456,41 +540,28 @@ namespace isoimpact
                             displacement.size();
     stiffness_times_u.reinit(0); // not computed: see above
 
-    constexpr std::size_t block_size = 4096;
-    const std::size_t     n_blocks   = (n + block_size - 1) / block_size;
-    block_energies.resize(n_blocks);
-    parallel::apply_to_subranges(
-      std::size_t(0),
-      n_blocks,
-      [&](const std::size_t first_block, const std::size_t end_block) {
-        for (std::size_t block = first_block; block < end_block; ++block)
-          {
-            const std::size_t end     = std::min(n, (block + 1) * block_size);
-            double            kinetic = 0., strain = 0.;
-            for (std::size_t k = block * block_size; k < end; ++k)
-              {
-                std::size_t i = k;
-                if constexpr (owned_rows_only)
-                  i = rows[k];
-                double ku = 0.;
-                for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
-                  ku += values[j] * u[columns[j]];
-                const double ai = (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
-                force[i]        = 0.; // consumed: zero for the next step
-                const double previous = vh[i];
-                if constexpr (form_whole_step_state)
-                  {
-                    a[i] = ai;
-                    v[i] = previous + 0.5 * dt * ai;
-                  }
-                vh[i] = previous + dt * ai;
-                kinetic += previous * mass[i] * vh[i];
-                strain += u[i] * ku;
-              }
-            block_energies[block] = {kinetic, strain};
-          }
-      },
-      1);
+    sum_by_blocks(n,
+                  block_energies,
+                  [&](const std::size_t k, StepEnergies &sums) {
+                    std::size_t i = k;
+                    if constexpr (owned_rows_only)
+                      i = rows[k];
+                    double ku = 0.;
+                    for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
+                      ku += values[j] * u[columns[j]];
+                    const double ai =
+                      (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
+                    force[i] = 0.; // consumed: zero for the next step
+                    const double previous = vh[i];
+                    if constexpr (form_whole_step_state)
+                      {
+                        a[i] = ai;
+                        v[i] = previous + 0.5 * dt * ai;
+                      }
+                    vh[i] = previous + dt * ai;
+                    sums.kinetic += previous * mass[i] * vh[i];
+                    sums.strain += u[i] * ku;
+                  });
     // Constrained unknowns do not count (as in the separate functions);
     // their acceleration is zero, so their velocity did not change.
     StepEnergies energies;

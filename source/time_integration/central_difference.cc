@@ -168,7 +168,10 @@ namespace isoimpact
     kinetic_energy_of_step = std::numeric_limits<double>::quiet_NaN();
     // The contact damping reads half_step_velocity: v^0 at t = 0.
     for (unsigned int b = 0; b < bodies.size(); ++b)
-      half_step_velocity[b] = bodies[b]->velocity;
+      {
+        bodies[b]->restart_steps();
+        half_step_velocity[b] = bodies[b]->velocity;
+      }
     compute_accelerations(record_contact_points);
     for (unsigned int b = 0; b < bodies.size(); ++b)
       half_step_velocity[b].add(0.5 * dt, bodies[b]->acceleration);

@@ -114,6 +114,12 @@ namespace isoimpact
       const double            dt,
       const bool              form_whole_step_state = true);
 
+    // A new run of steps (CentralDifference::initialize()): the consistent
+    // mass's M v^{n+1/2} carried between steps is formed again by the next
+    // step (see energies_of_last_step()).
+    void
+    restart_steps();
+
     // Whether compute_acceleration_and_velocities() leaves f zero.
     bool
     step_zeroes_force() const;
@@ -145,8 +151,12 @@ namespace isoimpact
     // With lumped mass, compute_acceleration_and_velocities() sums both
     // energies in its pass: kinetic_energy_at_full_step(v^{n+1/2}, dt) and
     // strain_energy_of_last_acceleration(u) of that step, exact in the
-    // same operations but in another order. Empty for consistent mass and
-    // once compute_acceleration() has been called since.
+    // same operations but in another order. With the consistent mass on
+    // one process (direct solve) it sums them in its velocity update, the
+    // kinetic energy 1/2 v^{n-1/2} . M v^{n+1/2} from M v^{n+1/2} carried
+    // from step to step (mass_times_half_step_velocity): equal to
+    // round-off. Empty otherwise and once compute_acceleration() has been
+    // called since.
     struct StepEnergies
     {
       double kinetic = 0.;
@@ -277,6 +287,16 @@ namespace isoimpact
     // compute_acceleration_and_velocities() with lumped mass: the
     // product K u and the pass of lumped_step_pass() fused row by row.
     // owned_rows_only: the rows of the unknowns this rank owns.
+    // v^{n+3/2} = v^{n+1/2} + dt a with the consistent mass, and the step's
+    // energies: M v^{n+3/2} = M v^{n+1/2} + dt r with r = f - K u
+    // condensed (the solve's right-hand side, in f), so that the kinetic
+    // energy needs no product with M. The first call, or one with another
+    // velocity vector, forms M v^{n+1/2} by a product.
+    void
+    advance_velocity_with_mass_times_velocity(
+      const dealii::Vector<double> &r,
+      dealii::Vector<double>       &half_step_velocity,
+      const double                  dt);
     template <bool form_whole_step_state, bool owned_rows_only>
     void
     fused_step(dealii::Vector<double> &f,
@@ -323,6 +343,10 @@ namespace isoimpact
     mutable bool                      step_energies_are_partial = false;
     double                            last_pass_seconds         = 0.;
     mutable std::vector<StepEnergies> block_energies;
+    // The consistent mass on one process: M v^{n+1/2} and the vector it
+    // belongs to (see advance_velocity_with_mass_times_velocity()).
+    dealii::Vector<double>        mass_times_half_step_velocity;
+    const dealii::Vector<double> *velocity_of_mass_product = nullptr;
     // Bipenalty: the condensed penalty masses in use and a dense scratch.
     std::vector<std::pair<dealii::types::global_dof_index, double>>
                            penalty_masses;
