@@ -421,7 +421,10 @@ namespace isoimpact
             velocity = half_step_velocity;
             velocity.add(0.5 * dt, acceleration);
           }
-        if (mass_solver && cg_tolerance == 0. && !row_exchange.is_distributed())
+        // Several ranks: the whole state on each (replicated_state), each
+        // rank the same sums as one process.
+        if (mass_solver && cg_tolerance == 0. &&
+            (replicated_state || !row_exchange.is_distributed()))
           advance_velocity_with_mass_times_velocity(f, half_step_velocity, dt);
         else
           half_step_velocity.add(dt, acceleration);

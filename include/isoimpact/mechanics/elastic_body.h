@@ -151,12 +151,12 @@ namespace isoimpact
     // With lumped mass, compute_acceleration_and_velocities() sums both
     // energies in its pass: kinetic_energy_at_full_step(v^{n+1/2}, dt) and
     // strain_energy_of_last_acceleration(u) of that step, exact in the
-    // same operations but in another order. With the consistent mass on
-    // one process (direct solve) it sums them in its velocity update, the
-    // kinetic energy 1/2 v^{n-1/2} . M v^{n+1/2} from M v^{n+1/2} carried
-    // from step to step (mass_times_half_step_velocity): equal to
-    // round-off. Empty otherwise and once compute_acceleration() has been
-    // called since.
+    // same operations but in another order. With the consistent mass
+    // (direct solve; on several ranks each rank alike, on the whole state)
+    // it sums them in its velocity update, the kinetic energy
+    // 1/2 v^{n-1/2} . M v^{n+1/2} from M v^{n+1/2} carried from step to
+    // step (mass_times_half_step_velocity): equal to round-off. Empty
+    // otherwise and once compute_acceleration() has been called since.
     struct StepEnergies
     {
       double kinetic = 0.;
@@ -343,8 +343,8 @@ namespace isoimpact
     mutable bool                      step_energies_are_partial = false;
     double                            last_pass_seconds         = 0.;
     mutable std::vector<StepEnergies> block_energies;
-    // The consistent mass on one process: M v^{n+1/2} and the vector it
-    // belongs to (see advance_velocity_with_mass_times_velocity()).
+    // The consistent mass: M v^{n+1/2} and the vector it belongs to (see
+    // advance_velocity_with_mass_times_velocity()).
     dealii::Vector<double>        mass_times_half_step_velocity;
     const dealii::Vector<double> *velocity_of_mass_product = nullptr;
     // Bipenalty: the condensed penalty masses in use and a dense scratch.
