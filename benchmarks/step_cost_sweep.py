@@ -10,16 +10,18 @@ the same run, their ratio (of the fastest rounds, and the median of the
 step/mat-vec pairs timed back to back, which a change of the machine's load
 moves least), the consistent step against the HRZ step (both normalised by
 their run's mat-vec, by the paired ratios, so that a change of the load
-between the runs cancels, and raw), peak memory and the Cholesky factors per
+between the runs cancels; raw; and both scenes in one process, their steps
+timed alternately, the median of the pairs' ratios, by
+build/benchmarks/benchmark_mass_step_ratio), peak memory and the Cholesky factors per
 unknown, and the factorisation's set-up time.
 usage: python3 benchmarks/step_cost_sweep.py [--quick] [--build build]
            [--only "METHOD:LEVEL" ...] [--repeats R]
   --quick: the two smallest levels of each method only.
   --only "IGA p2:8": that method and level only (may be repeated).
   --repeats R: each level's HRZ and consistent runs R times in turn (one
-    table row per run); after the table, the median of the R normalised
-    consistent / HRZ ratios per level, since one run can fall into a slow
-    phase of the machine."""
+    table row per run); after the table, the medians of the R normalised
+    and one-process consistent / HRZ ratios per level, since one run can
+    fall into a slow phase of the machine."""
 import argparse
 import os
 import statistics
@@ -37,8 +39,8 @@ CASES = {"FEA Q9": ("prm/hertz_fea_hrz.prm", [4, 5, 6, 7], 16772),
 MASSES = ["HRZ", "consistent"]
 
 
-def run(binary, prm, steps, rounds):
-    out = subprocess.run([binary, prm, str(steps), str(rounds)], check=True,
+def run(binary, *arguments):
+    out = subprocess.run([binary, *map(str, arguments)], check=True,
                          capture_output=True, text=True).stdout
     line = [l for l in out.splitlines() if l.startswith("RESULT ")][-1]
     return {k: v for k, v in (item.split("=") for item in line.split()[1:])}
@@ -62,13 +64,16 @@ def main():
             parser.error(f"--only {item!r}: allowed are " + ", ".join(
                 f"'{m}:{l}'" for m, (_, ls, _) in CASES.items() for l in ls))
         selected.add((method, int(level)))
-    normalised_runs = {}
+    normalised_runs, one_process_runs = {}, {}
     binary = os.path.join(args.build, "benchmarks", "benchmark_step_cost")
+    pair_binary = os.path.join(args.build, "benchmarks",
+                               "benchmark_mass_step_ratio")
     rounds = 3
     header = ("| method | level | unknowns | mass | step [ns/unknown] "
               "| mat-vec [ns/unknown] | step / mat-vec | step / mat-vec "
               "(paired median) | consistent / HRZ "
-              "(normalised) | consistent / HRZ (raw) | peak memory "
+              "(normalised) | consistent / HRZ (raw) | consistent / HRZ "
+              "(one process, paired) | peak memory "
               "[bytes/unknown] | factors [bytes/unknown] | factors "
               "[nonzeros/unknown] | factorisation [s] |")
     print(header)
@@ -89,9 +94,10 @@ def main():
                 steps = max(10, min(int(0.6 / (1.25 * rounds * dt)),
                                     int(2e7 / unknowns)))
                 results = {}
+                names = {mass: os.path.join(work, f"{level}_{mass}.prm")
+                         for mass in MASSES}
                 for mass in MASSES:
-                    name = os.path.join(work, f"{level}_{mass}.prm")
-                    edit_prm(os.path.join(root, prm), name, {
+                    edit_prm(os.path.join(root, prm), names[mass], {
                         "Discretization/Global refinements": level,
                         "Mass matrix/Scheme": mass,
                         "Time integration/Time step": dt,
@@ -100,7 +106,12 @@ def main():
                         "Output/VTU interval": 0,
                         "Output/Pressure profile times": "",
                         "Output/Directory": os.path.join(work, "out")})
-                    results[mass] = run(binary, name, steps, rounds)
+                    results[mass] = run(binary, names[mass], steps, rounds)
+                # Both scenes in one process, their steps alternately.
+                pair = run(pair_binary, names["HRZ"], names["consistent"],
+                           steps, rounds)
+                assert pair["contact"] == "1", f"no contact in {method} {level}"
+                one_process = float(pair["paired_ratio"])
                 lumped = results["HRZ"]
                 for mass in MASSES:
                     r = results[mass]
@@ -114,13 +125,16 @@ def main():
                     if consistent:
                         normalised_runs.setdefault((method, level),
                                                    []).append(normalised)
+                        one_process_runs.setdefault((method, level),
+                                                    []).append(one_process)
                     print(f"| {method} | {level} | {r['unknowns']} | {mass} "
                           f"| {step:.1f} | {matvec:.1f} | {ratio:.2f} "
                           f"| {paired:.2f} | {normalised:.2f} | {raw:.2f} "
+                          f"| {one_process:.2f} "
                           if consistent else
                           f"| {method} | {level} | {r['unknowns']} | {mass} "
                           f"| {step:.1f} | {matvec:.1f} | {ratio:.2f} "
-                          f"| {paired:.2f} | - | - ",
+                          f"| {paired:.2f} | - | - | - ",
                           end="")
                     print(f"| {float(r['peak_bytes']):.0f} "
                           + (f"| {float(r['factor_bytes']):.0f} "
@@ -129,10 +143,13 @@ def main():
                              if consistent else "| - | - | - |"), flush=True)
     if args.repeats > 1:
         print()
-        for (method, level), runs in normalised_runs.items():
-            print(f"{method} level {level}: consistent / HRZ (normalised), "
-                  f"median of {len(runs)} runs {statistics.median(runs):.2f}"
-                  " (runs: " + ", ".join(f"{r:.2f}" for r in runs) + ")")
+        for label, measured in (("normalised", normalised_runs),
+                                ("one process, paired", one_process_runs)):
+            for (method, level), runs in measured.items():
+                print(f"{method} level {level}: consistent / HRZ ({label}), "
+                      f"median of {len(runs)} runs "
+                      f"{statistics.median(runs):.2f} (runs: "
+                      + ", ".join(f"{r:.2f}" for r in runs) + ")")
 
 
 if __name__ == "__main__":
