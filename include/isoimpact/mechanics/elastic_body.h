@@ -284,9 +284,6 @@ namespace isoimpact
     void
     lumped_step_pass(const dealii::Vector<double> &f,
                      dealii::Vector<double>       &a) const;
-    // compute_acceleration_and_velocities() with lumped mass: the
-    // product K u and the pass of lumped_step_pass() fused row by row.
-    // owned_rows_only: the rows of the unknowns this rank owns.
     // v^{n+3/2} = v^{n+1/2} + dt a with the consistent mass, and the step's
     // energies: M v^{n+3/2} = M v^{n+1/2} + dt r with r = f - K u
     // condensed (the solve's right-hand side, in f), so that the kinetic
@@ -297,6 +294,9 @@ namespace isoimpact
       const dealii::Vector<double> &r,
       dealii::Vector<double>       &half_step_velocity,
       const double                  dt);
+    // compute_acceleration_and_velocities() with lumped mass: the
+    // product K u and the pass of lumped_step_pass() fused row by row.
+    // owned_rows_only: the rows of the unknowns this rank owns.
     template <bool form_whole_step_state, bool owned_rows_only>
     void
     fused_step(dealii::Vector<double> &f,
