@@ -87,17 +87,20 @@ main(int argc, char **argv)
                ratios[n_pairs / 2] :
                0.5 * (ratios[n_pairs / 2 - 1] + ratios[n_pairs / 2]);
 
+      // Whether the bodies of a run are in contact at its end (a scene
+      // without contact: no).
+      const auto contact_on = [](const Run &run) {
+        const auto &results = run.integrator->contact_results();
+        return !results.empty() && results[0].n_active_points > 0;
+      };
       for (unsigned int r = 0; r < 2; ++r)
         {
           const auto  &run = *runs[r];
           const double n   = run.scene.n_dofs();
-          const bool   contact_on =
-            !run.integrator->contact_results().empty() &&
-            run.integrator->contact_results()[0].n_active_points > 0;
           std::cout << (r == 0 ? "A " : "B ") << argv[1 + r] << ": "
                     << run.scene.n_dofs() << " unknowns, mass "
                     << to_string(run.parameters.mass_scheme) << ", contact "
-                    << (contact_on ? "on" : "OFF")
+                    << (contact_on(run) ? "on" : "OFF")
                     << " at the end (t = " << run.integrator->time()
                     << " s), step " << 1e9 * run.fastest_round / n
                     << " ns per unknown (fastest round), mean kinetic energy "
@@ -107,15 +110,11 @@ main(int argc, char **argv)
                 << " pairs), "
                 << runs[1]->fastest_round / runs[0]->fastest_round
                 << " (fastest rounds)\n";
-      std::cout
-        << "RESULT paired_ratio=" << paired_ratio
-        << " fastest_ratio=" << runs[1]->fastest_round / runs[0]->fastest_round
-        << " contact="
-        << (runs[0]->integrator->contact_results()[0].n_active_points > 0 &&
-                runs[1]->integrator->contact_results()[0].n_active_points > 0 ?
-              1 :
-              0)
-        << std::endl;
+      std::cout << "RESULT paired_ratio=" << paired_ratio << " fastest_ratio="
+                << runs[1]->fastest_round / runs[0]->fastest_round
+                << " contact="
+                << (contact_on(*runs[0]) && contact_on(*runs[1]) ? 1 : 0)
+                << std::endl;
     }
   catch (const std::exception &e)
     {
