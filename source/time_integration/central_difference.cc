@@ -1,5 +1,6 @@
 // Layer 5: central differences.
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/thread_management.h>
 
 #include <isoimpact/time_integration/central_difference.h>
 
@@ -37,6 +38,11 @@ namespace isoimpact
         force_is_zero.push_back(true);
       }
     body_penalty_masses.resize(bodies.size());
+    bodies_step_side_by_side =
+      bodies.size() > 1 &&
+      std::none_of(bodies.begin(), bodies.end(), [](const auto *body) {
+        return body->exchange().is_distributed();
+      });
     bool damped_contact = false;
     for (const auto &interaction : contacts)
       {
@@ -142,20 +148,40 @@ namespace isoimpact
             bodies[b]->set_penalty_masses(body_penalty_masses[b],
                                           half_step_velocity[b]);
       }
-    for (unsigned int b = 0; b < bodies.size(); ++b)
-      if (update_velocities)
+    if (update_velocities)
+      {
         // v^{n+1} = v^{n+1/2} + dt/2 a^{n+1}; v^{n+3/2} = v^{n+1/2} + dt a,
         // fused with the acceleration (one pass for lumped mass).
-        {
+        const auto step_body = [&](const unsigned int b) {
           bodies[b]->compute_acceleration_and_velocities(
             forces[b],
             half_step_velocity[b],
             dt,
             // energy_balance() reads the bipenalty's acceleration.
             form_whole_step_state || bipenalty);
+        };
+        // The bodies' steps touch only their own data. On one process they
+        // run side by side: while a consistent mass solve is in the root
+        // of its elimination tree (one thread), the other threads take the
+        // other body's work. Each body's step has the same bits either
+        // way. On several ranks one after the other (their messages).
+        if (bodies_step_side_by_side)
+          {
+            Threads::TaskGroup<void> tasks;
+            for (unsigned int b = 0; b < bodies.size(); ++b)
+              tasks += Threads::new_task([&step_body, b]() {
+                step_body(b);
+              });
+            tasks.join_all();
+          }
+        else
+          for (unsigned int b = 0; b < bodies.size(); ++b)
+            step_body(b);
+        for (unsigned int b = 0; b < bodies.size(); ++b)
           force_is_zero[b] = bodies[b]->step_zeroes_force();
-        }
-      else
+      }
+    else
+      for (unsigned int b = 0; b < bodies.size(); ++b)
         bodies[b]->compute_acceleration(bodies[b]->displacement,
                                         forces[b],
                                         bodies[b]->acceleration);

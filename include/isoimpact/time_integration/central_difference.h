@@ -137,6 +137,9 @@ namespace isoimpact
     std::vector<dealii::Vector<double>> forces;
     // Per body: forces[b] is zero (left so by the body's step).
     std::vector<bool> force_is_zero;
+    // Whether the bodies' steps run as parallel tasks (no body exchanges
+    // messages in its step: one process).
+    bool bodies_step_side_by_side = false;
     // Per contact interaction, built once: its bodies' displacements and
     // force vectors, in the order the contact model expects.
     std::vector<std::vector<const dealii::Vector<double> *>>
