@@ -85,7 +85,13 @@ def peak_anonymous_memory(top_pid, program, stop, peaks):
 def run(program, prm, work, ranks, threads):
     out = os.path.join(work, "out")
     shutil.rmtree(out, ignore_errors=True)
-    command = ["/usr/bin/time", "-f", "PEAK_RSS_KB %M", program, prm]
+    # Each process appends its line to a file of its own lines (on stderr
+    # the ranks' lines could interleave).
+    peak_file = os.path.join(work, "peak_rss.txt")
+    if os.path.exists(peak_file):
+        os.remove(peak_file)
+    command = ["/usr/bin/time", "-a", "-o", peak_file, "-f", "PEAK_RSS_KB %M",
+               program, prm]
     env = {**os.environ, "DEAL_II_NUM_THREADS": str(threads)}
     if ranks > 1:
         command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks),
@@ -102,9 +108,11 @@ def run(program, prm, work, ranks, threads):
     if process.returncode != 0:
         sys.exit(f"{' '.join(command)} failed:\n{stdout[-2000:]}\n{stderr[-2000:]}")
     summary = json.load(open(os.path.join(out, "summary.json")))
-    rss = [int(v) * 1024 for v in re.findall(r"PEAK_RSS_KB (\d+)", stderr)]
-    if not rss:
-        print(f"no peak memory from /usr/bin/time: {stderr[-500:]}", file=sys.stderr)
+    peak_lines = open(peak_file).read() if os.path.exists(peak_file) else ""
+    rss = [int(v) * 1024 for v in re.findall(r"PEAK_RSS_KB (\d+)", peak_lines)]
+    if len(rss) != ranks:
+        print(f"peak memory of {len(rss)} of {ranks} processes from /usr/bin/time: "
+              f"{peak_lines[-500:]}", file=sys.stderr)
     return (summary["wall_time_parts_s"]["time_loop"] / summary["steps"],
             max(rss) if rss else float("nan"),
             max(anonymous.values()) if anonymous else float("nan"), summary["unknowns"])
