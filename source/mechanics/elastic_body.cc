@@ -47,10 +47,10 @@ namespace isoimpact
     }
 
     // row_terms(k, sums) for the rows k < n in blocks of a fixed size over
-    // the threads, each block's sums into block_sums: added in block order
-    // they have the same bits whatever the threads.
+    // the threads, each block's sums into block_sums; returns their total,
+    // added in block order: the same bits whatever the threads.
     template <typename Sums, typename RowTerms>
-    void
+    Sums
     sum_by_blocks(const std::size_t  n,
                   std::vector<Sums> &block_sums,
                   const RowTerms    &row_terms)
@@ -72,6 +72,10 @@ namespace isoimpact
             }
         },
         1);
+      Sums total;
+      for (const Sums &sums : block_sums)
+        total += sums;
+      return total;
     }
 
     // The diagonal and the nonzero entries of `matrix`, in their order, into
@@ -478,21 +482,16 @@ namespace isoimpact
     const double *ku  = stiffness_times_u.data();
     double       *vh  = half_step_velocity.data();
     double       *mv  = mass_times_half_step_velocity.data();
-    sum_by_blocks(n_dofs(),
-                  block_energies,
-                  [&](const std::size_t i, StepEnergies &sums) {
-                    const double previous = vh[i];
-                    vh[i]                 = previous + dt * a[i];
-                    mv[i] += dt * rhs[i];
-                    sums.kinetic += previous * mv[i];
-                    sums.strain += u[i] * ku[i];
-                  });
-    StepEnergies energies;
-    for (const auto &block : block_energies)
-      {
-        energies.kinetic += block.kinetic;
-        energies.strain += block.strain;
-      }
+    StepEnergies  energies =
+      sum_by_blocks(n_dofs(),
+                    block_energies,
+                    [&](const std::size_t i, StepEnergies &sums) {
+                      const double previous = vh[i];
+                      vh[i]                 = previous + dt * a[i];
+                      mv[i] += dt * rhs[i];
+                      sums.kinetic += previous * mv[i];
+                      sums.strain += u[i] * ku[i];
+                    });
     for (const auto &line : body_constraints.get_lines())
       energies.strain -= u[line.index] * ku[line.index];
     energies.kinetic *= 0.5;
@@ -543,36 +542,32 @@ namespace isoimpact
                             displacement.size();
     stiffness_times_u.reinit(0); // not computed: see above
 
-    sum_by_blocks(n,
-                  block_energies,
-                  [&](const std::size_t k, StepEnergies &sums) {
-                    std::size_t i = k;
-                    if constexpr (owned_rows_only)
-                      i = rows[k];
-                    double ku = 0.;
-                    for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
-                      ku += values[j] * u[columns[j]];
-                    const double ai =
-                      (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
-                    force[i] = 0.; // consumed: zero for the next step
-                    const double previous = vh[i];
-                    if constexpr (form_whole_step_state)
-                      {
-                        a[i] = ai;
-                        v[i] = previous + 0.5 * dt * ai;
-                      }
-                    vh[i] = previous + dt * ai;
-                    sums.kinetic += previous * mass[i] * vh[i];
-                    sums.strain += u[i] * ku;
-                  });
+    StepEnergies energies =
+      sum_by_blocks(n,
+                    block_energies,
+                    [&](const std::size_t k, StepEnergies &sums) {
+                      std::size_t i = k;
+                      if constexpr (owned_rows_only)
+                        i = rows[k];
+                      double ku = 0.;
+                      for (std::size_t j = rowstart[i]; j < rowstart[i + 1];
+                           ++j)
+                        ku += values[j] * u[columns[j]];
+                      const double ai =
+                        (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
+                      force[i] = 0.; // consumed: zero for the next step
+                      const double previous = vh[i];
+                      if constexpr (form_whole_step_state)
+                        {
+                          a[i] = ai;
+                          v[i] = previous + 0.5 * dt * ai;
+                        }
+                      vh[i] = previous + dt * ai;
+                      sums.kinetic += previous * mass[i] * vh[i];
+                      sums.strain += u[i] * ku;
+                    });
     // Constrained unknowns do not count (as in the separate functions);
     // their acceleration is zero, so their velocity did not change.
-    StepEnergies energies;
-    for (const auto &block : block_energies)
-      {
-        energies.kinetic += block.kinetic;
-        energies.strain += block.strain;
-      }
     for (const auto &line : body_constraints.get_lines())
       {
         const std::size_t i = line.index;

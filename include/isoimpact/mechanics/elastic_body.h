@@ -161,6 +161,14 @@ namespace isoimpact
     {
       double kinetic = 0.;
       double strain  = 0.;
+
+      StepEnergies &
+      operator+=(const StepEnergies &other)
+      {
+        kinetic += other.kinetic;
+        strain += other.strain;
+        return *this;
+      }
     };
     const std::optional<StepEnergies> &
     energies_of_last_step() const;
