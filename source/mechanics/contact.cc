@@ -1,6 +1,8 @@
 // Layer 4: symmetric two-pass penalty contact (see contact.h).
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/parallel.h>
 #include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/thread_management.h>
 
 #include <isoimpact/mechanics/contact.h>
 
@@ -808,14 +810,21 @@ namespace isoimpact
                             !surfaces[1].mass_density.empty()),
                 ExcMessage("contact damping needs the velocities and the "
                            "surface masses of both bodies"));
-    for (unsigned int b = 0; b < 2; ++b)
-      {
-        if (!current_surfaces[b])
-          current_surfaces[b] = std::make_unique<CurrentSurface<dim>>();
-        current_surfaces[b]->update(surfaces[b].segments,
-                                    surfaces[b].reference_lengths,
-                                    *displacements[b]);
-      }
+    // The two surfaces side by side (each task touches its own).
+    {
+      Threads::TaskGroup<void> updates;
+      for (unsigned int b = 0; b < 2; ++b)
+        {
+          if (!current_surfaces[b])
+            current_surfaces[b] = std::make_unique<CurrentSurface<dim>>();
+          updates += Threads::new_task([this, &displacements, b]() {
+            current_surfaces[b]->update(surfaces[b].segments,
+                                        surfaces[b].reference_lengths,
+                                        *displacements[b]);
+          });
+        }
+      updates.join_all();
+    }
     const std::array<const CurrentSurface<dim> *, 2> current = {
       {current_surfaces[0].get(), current_surfaces[1].get()}};
 
@@ -824,64 +833,74 @@ namespace isoimpact
     const double eps = penalty_per_pass();
 
     // The projections of this rank's points g = rank, rank + n_ranks, ...
-    // (g numbers the points of body 0, then those of body 1).
-    const unsigned int        n_points_0 = surfaces[0].points.size();
-    const unsigned int        n_points = n_points_0 + surfaces[1].points.size();
-    const unsigned int        per_rank = (n_points + n_ranks - 1) / n_ranks;
-    std::vector<double>       r, dr;
-    std::vector<unsigned int> candidates;
+    // (g numbers the points of body 0, then those of body 1), over the
+    // threads: each point's outcome has a slot of its own, and the forces
+    // are added below in one order whatever the threads.
+    const unsigned int n_points_0 = surfaces[0].points.size();
+    const unsigned int n_points   = n_points_0 + surfaces[1].points.size();
+    const unsigned int per_rank   = (n_points + n_ranks - 1) / n_ranks;
     own_outcomes.assign(per_rank,
                         PointOutcome{-1., 0., {{0., 0.}}, 0., 0., 0.});
-    for (unsigned int g = rank; g < n_points; g += n_ranks)
-      {
-        const unsigned int body  = (g < n_points_0) ? 0 : 1;
-        const unsigned int other = 1 - body;
-        const unsigned int q     = (body == 0) ? g : g - n_points_0;
-        const auto        &point = surfaces[body].points[q];
-        const Point<dim>   x     = current[body]->position(point);
-        current[other]->find_candidates(x, candidates);
-        const Projection<dim> projection =
-          project(*current[other], x, candidates, r, dr);
-        if (projection.segment == numbers::invalid_unsigned_int ||
-            !(projection.gap < 0.))
-          continue;
+    const auto project_points = [&](const unsigned int first,
+                                    const unsigned int end) {
+      std::vector<double>       r, dr;
+      std::vector<unsigned int> candidates;
+      for (unsigned int k = first; k < end; ++k)
+        {
+          const unsigned int g = rank + k * n_ranks;
+          if (g >= n_points)
+            break;
+          const unsigned int body  = (g < n_points_0) ? 0 : 1;
+          const unsigned int other = 1 - body;
+          const unsigned int q     = (body == 0) ? g : g - n_points_0;
+          const auto        &point = surfaces[body].points[q];
+          const Point<dim>   x     = current[body]->position(point);
+          current[other]->find_candidates(x, candidates);
+          const Projection<dim> projection =
+            project(*current[other], x, candidates, r, dr);
+          if (projection.segment == numbers::invalid_unsigned_int ||
+              !(projection.gap < 0.))
+            continue;
 
-        const double gap           = projection.gap;
-        double       pressure      = -eps * gap;
-        double       damping_power = 0.;
-        if (damped)
-          {
-            const auto &segment = surfaces[body].segments[point.segment];
-            const auto &other_segment =
-              surfaces[other].segments[projection.segment];
-            evaluate_segment_basis(other_segment, projection.eta, r, dr);
-            // c_pass = xi sqrt(2 eps_pass mu): the two passes together
-            // damp the pair's spring 2 eps_pass critically at xi = 1.
-            const double mu_own =
-              surfaces[body].mass_density(point.segment, point.shape_values);
-            const double mu_other =
-              surfaces[other].mass_density(projection.segment, r);
-            const double mu = mu_own * mu_other / (mu_own + mu_other);
-            const double damping =
-              settings.damping_ratio * std::sqrt(2. * eps * mu);
-            const double gap_rate =
-              (point_velocity(segment, point.shape_values, *velocities[body]) -
-               point_velocity(other_segment, r, *velocities[other])) *
-              projection.normal;
-            pressure = damped_pressure(pressure,
-                                       damping,
-                                       gap_rate,
-                                       point.weight,
-                                       damping_power);
-          }
-        own_outcomes[g / n_ranks] = {double(projection.segment),
-                                     projection.eta,
-                                     {{projection.normal[0],
-                                       projection.normal[1]}},
-                                     gap,
-                                     pressure,
-                                     damping_power};
-      }
+          const double gap           = projection.gap;
+          double       pressure      = -eps * gap;
+          double       damping_power = 0.;
+          if (damped)
+            {
+              const auto &segment = surfaces[body].segments[point.segment];
+              const auto &other_segment =
+                surfaces[other].segments[projection.segment];
+              evaluate_segment_basis(other_segment, projection.eta, r, dr);
+              // c_pass = xi sqrt(2 eps_pass mu): the two passes together
+              // damp the pair's spring 2 eps_pass critically at xi = 1.
+              const double mu_own =
+                surfaces[body].mass_density(point.segment, point.shape_values);
+              const double mu_other =
+                surfaces[other].mass_density(projection.segment, r);
+              const double mu = mu_own * mu_other / (mu_own + mu_other);
+              const double damping =
+                settings.damping_ratio * std::sqrt(2. * eps * mu);
+              const double gap_rate =
+                (point_velocity(segment,
+                                point.shape_values,
+                                *velocities[body]) -
+                 point_velocity(other_segment, r, *velocities[other])) *
+                projection.normal;
+              pressure = damped_pressure(pressure,
+                                         damping,
+                                         gap_rate,
+                                         point.weight,
+                                         damping_power);
+            }
+          own_outcomes[k] = {double(projection.segment),
+                             projection.eta,
+                             {{projection.normal[0], projection.normal[1]}},
+                             gap,
+                             pressure,
+                             damping_power};
+        }
+    };
+    parallel::apply_to_subranges(0U, per_rank, project_points, 64);
     const PointOutcome *outcomes = own_outcomes.data();
     if (n_ranks > 1)
       {
@@ -900,7 +919,8 @@ namespace isoimpact
       }
 
     // Every point's forces, in the order of one process.
-    ContactResult<dim> result;
+    std::vector<double> r, dr;
+    ContactResult<dim>  result;
     for (unsigned int body = 0; body < 2; ++body)
       {
         std::fill(point_pressure[body].begin(), point_pressure[body].end(), 0.);
