@@ -645,6 +645,38 @@ namespace isoimpact
 
   template <int dim>
   void
+  ElasticBody<dim>::advance_displacement_of_rows(
+    const Vector<double>                       &half_step_velocity,
+    const double                                dt,
+    const std::vector<types::global_dof_index> &rows,
+    const bool                                  all_but_rows)
+  {
+    AssertThrow(!row_exchange.is_distributed(),
+                ExcMessage("advance_displacement_of_rows() is for one "
+                           "process"));
+    // The same operation per entry as Vector::add: the same bits.
+    double       *u = displacement.data();
+    const double *v = half_step_velocity.data();
+    if (!all_but_rows)
+      {
+        for (const auto i : rows)
+          u[i] += dt * v[i];
+        return;
+      }
+    types::global_dof_index first = 0;
+    for (const auto row : rows)
+      {
+        Assert(row >= first, ExcMessage("rows must ascend"));
+        for (types::global_dof_index i = first; i < row; ++i)
+          u[i] += dt * v[i];
+        first = row + 1;
+      }
+    for (types::global_dof_index i = first; i < displacement.size(); ++i)
+      u[i] += dt * v[i];
+  }
+
+  template <int dim>
+  void
   ElasticBody<dim>::sum_step_energies(
     const std::vector<ElasticBody<dim> *> &bodies)
   {

@@ -260,6 +260,17 @@ namespace isoimpact
     void
     advance_displacement(const dealii::Vector<double> &half_step_velocity,
                          const double                  dt);
+    // One process: u_i += dt v_i for the unknowns in `rows` (ascending,
+    // unique) alone, or with `all_but_rows` for all the others. The two
+    // calls together are advance_displacement(), with its bits, and touch
+    // no entry twice: the contact can read its surfaces' new displacement
+    // while the rest of it is updated.
+    void
+    advance_displacement_of_rows(
+      const dealii::Vector<double>                       &half_step_velocity,
+      const double                                        dt,
+      const std::vector<dealii::types::global_dof_index> &rows,
+      const bool                                          all_but_rows);
     // On several ranks: the energies of the bodies' last steps summed over
     // the ranks in one message (the ranks wait for each other once); with
     // load balancing the message also carries each rank's time of its

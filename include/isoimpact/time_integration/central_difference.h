@@ -118,10 +118,13 @@ namespace isoimpact
     // Zeroes the forces and evaluates every contact into them and results.
     void
     evaluate_contacts(const bool record_contact_points);
+    // contacts_evaluated: evaluate_contacts() has been called for this
+    // state already.
     void
     compute_accelerations(const bool record_contact_points,
                           const bool update_velocities     = false,
-                          const bool form_whole_step_state = true);
+                          const bool form_whole_step_state = true,
+                          const bool contacts_evaluated    = false);
 
     std::vector<ElasticBody<dim> *>      bodies;
     std::vector<ContactInteraction<dim>> contacts;
@@ -140,6 +143,13 @@ namespace isoimpact
     // Whether the bodies' steps run as parallel tasks (no body exchanges
     // messages in its step: one process).
     bool bodies_step_side_by_side = false;
+    // Per body: the unknowns of its contact surfaces (ascending), the only
+    // ones a contact reads the displacement of and adds forces to. On one
+    // process without mass redistribution a step advances these first and
+    // evaluates the contacts while another thread advances the rest of the
+    // displacement.
+    std::vector<std::vector<dealii::types::global_dof_index>> surface_unknowns;
+    bool contacts_beside_displacement = false;
     // Per contact interaction, built once: its bodies' displacements and
     // force vectors, in the order the contact model expects.
     std::vector<std::vector<const dealii::Vector<double> *>>
