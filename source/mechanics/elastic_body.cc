@@ -635,11 +635,12 @@ namespace isoimpact
         displacement.add(dt, half_step_velocity);
         return;
       }
-    // The same operation per entry as Vector::add: the same bits.
-    double       *u = displacement.data();
-    const double *v = half_step_velocity.data();
+    // The same operation per entry as Vector::add: the same bits (a
+    // 64-bit index, so that the loop vectorises).
+    double *__restrict__ u       = displacement.data();
+    const double *__restrict__ v = half_step_velocity.data();
     for (const auto &[first, end] : row_exchange.owned_ranges())
-      for (types::global_dof_index i = first; i < end; ++i)
+      for (std::size_t i = first; i < std::size_t(end); ++i)
         u[i] += dt * v[i];
   }
 
@@ -655,24 +656,28 @@ namespace isoimpact
                 ExcMessage("advance_displacement_of_rows() is for one "
                            "process"));
     // The same operation per entry as Vector::add: the same bits.
-    double       *u = displacement.data();
-    const double *v = half_step_velocity.data();
+    double *__restrict__ u       = displacement.data();
+    const double *__restrict__ v = half_step_velocity.data();
     if (!all_but_rows)
       {
         for (const auto i : rows)
           u[i] += dt * v[i];
         return;
       }
-    types::global_dof_index first = 0;
-    for (const auto row : rows)
+    // (A 64-bit index, so that the loop vectorises.)
+    const auto advance = [u, v, dt](const std::size_t begin,
+                                    const std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+        u[i] += dt * v[i];
+    };
+    std::size_t first = 0;
+    for (const std::size_t row : rows)
       {
         Assert(row >= first, ExcMessage("rows must ascend"));
-        for (types::global_dof_index i = first; i < row; ++i)
-          u[i] += dt * v[i];
+        advance(first, row);
         first = row + 1;
       }
-    for (types::global_dof_index i = first; i < displacement.size(); ++i)
-      u[i] += dt * v[i];
+    advance(first, displacement.size());
   }
 
   template <int dim>
