@@ -138,12 +138,10 @@ namespace isoimpact
     const bool form_whole_step_state,
     const bool contacts_evaluated)
   {
+    // (advance() evaluates the contacts beside the displacement update only
+    // without the quasi-static boundary.)
     Assert(!contacts_evaluated || !boundary, ExcInternalError());
-    if (contacts_evaluated)
-      {
-        // advance() evaluated them beside the displacement update.
-      }
-    else if (boundary)
+    if (boundary)
       {
         // u_b in equilibrium with u_i; the forces and results are those of
         // the solution.
@@ -155,7 +153,7 @@ namespace isoimpact
         if (update_velocities)
           boundary->set_velocities(half_step_velocity, dt);
       }
-    else
+    else if (!contacts_evaluated)
       evaluate_contacts(record_contact_points);
     if (bipenalty)
       {
