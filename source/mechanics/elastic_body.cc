@@ -61,16 +61,17 @@ namespace isoimpact
         u[i] += dt * v[i];
     }
 
-    // row_terms(k, sums) for the rows k < n in blocks of a fixed size over
-    // the threads, each block's sums into block_sums; returns their total,
-    // added in block order: the same bits whatever the threads.
-    template <typename Sums, typename RowTerms>
+    // range_terms(begin, end, sums) for the rows k < n in blocks of a fixed
+    // size over the threads, each block's sums into block_sums; returns
+    // their total, added in block order: the same bits whatever the
+    // threads.
+    template <typename Sums, typename RangeTerms>
     Sums
-    sum_by_blocks(const std::size_t  n,
-                  std::vector<Sums> &block_sums,
-                  const RowTerms    &row_terms)
+    sum_over_blocks(const std::size_t  n,
+                    std::vector<Sums> &block_sums,
+                    const RangeTerms  &range_terms)
     {
-      constexpr std::size_t block_size = 4096;
+      constexpr std::size_t block_size = 4096; // even: rows in pairs
       const std::size_t     n_blocks   = (n + block_size - 1) / block_size;
       block_sums.resize(n_blocks);
       parallel::apply_to_subranges(
@@ -79,10 +80,10 @@ namespace isoimpact
         [&](const std::size_t first_block, const std::size_t end_block) {
           for (std::size_t block = first_block; block < end_block; ++block)
             {
-              const std::size_t end = std::min(n, (block + 1) * block_size);
-              Sums              sums;
-              for (std::size_t k = block * block_size; k < end; ++k)
-                row_terms(k, sums);
+              Sums sums;
+              range_terms(block * block_size,
+                          std::min(n, (block + 1) * block_size),
+                          sums);
               block_sums[block] = sums;
             }
         },
@@ -91,6 +92,23 @@ namespace isoimpact
       for (const Sums &sums : block_sums)
         total += sums;
       return total;
+    }
+
+    // The same with row_terms(k, sums) row by row.
+    template <typename Sums, typename RowTerms>
+    Sums
+    sum_by_blocks(const std::size_t  n,
+                  std::vector<Sums> &block_sums,
+                  const RowTerms    &row_terms)
+    {
+      return sum_over_blocks(n,
+                             block_sums,
+                             [&](const std::size_t begin,
+                                 const std::size_t end,
+                                 Sums             &sums) {
+                               for (std::size_t k = begin; k < end; ++k)
+                                 row_terms(k, sums);
+                             });
     }
 
     // The diagonal and the nonzero entries of `matrix`, in their order, into
@@ -278,6 +296,9 @@ namespace isoimpact
             step_inverse_mass = inverse_lumped_mass;
             for (const auto &line : body_constraints.get_lines())
               step_inverse_mass(line.index) = 0.;
+            // The fused pass's K u two rows at a time, the same bits as
+            // vmult's (doc/performance.md, session 23).
+            paired_stiffness.build(stiffness);
           }
       }
 
@@ -529,7 +550,8 @@ namespace isoimpact
                                Vector<double> &half_step_velocity,
                                const double    dt)
   {
-    // Row by row: (K u)_i as deal.II's vmult sums it (the same bits), then
+    // Row by row, or two rows at a time (paired_stiffness): (K u)_i as
+    // deal.II's vmult sums it (the same bits), then
     // a_i, v_i, v^{n+1/2}_i and the energies' terms while the row is at
     // hand. K u is not stored (strain_energy_of_last_acceleration() is then
     // not available: energies_of_last_step() replaces it). Blocks of a
@@ -557,30 +579,48 @@ namespace isoimpact
                             displacement.size();
     stiffness_times_u.reinit(0); // not computed: see above
 
-    StepEnergies energies =
-      sum_by_blocks(n,
-                    block_energies,
-                    [&](const std::size_t k, StepEnergies &sums) {
-                      std::size_t i = k;
-                      if constexpr (owned_rows_only)
-                        i = rows[k];
-                      double ku = 0.;
-                      for (std::size_t j = rowstart[i]; j < rowstart[i + 1];
-                           ++j)
-                        ku += values[j] * u[columns[j]];
-                      const double ai =
-                        (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
-                      force[i] = 0.; // consumed: zero for the next step
-                      const double previous = vh[i];
-                      if constexpr (form_whole_step_state)
-                        {
-                          a[i] = ai;
-                          v[i] = previous + 0.5 * dt * ai;
-                        }
-                      vh[i] = previous + dt * ai;
-                      sums.kinetic += previous * mass[i] * vh[i];
-                      sums.strain += u[i] * ku;
-                    });
+    // One row's step, its product ku at hand.
+    const auto row_step =
+      [&](const std::size_t i, const double ku, StepEnergies &sums) {
+        const double ai       = (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
+        force[i]              = 0.; // consumed: zero for the next step
+        const double previous = vh[i];
+        if constexpr (form_whole_step_state)
+          {
+            a[i] = ai;
+            v[i] = previous + 0.5 * dt * ai;
+          }
+        vh[i] = previous + dt * ai;
+        sums.kinetic += previous * mass[i] * vh[i];
+        sums.strain += u[i] * ku;
+      };
+    // Rows 2p and 2p + 1 side by side where both are to be stepped
+    // (paired_stiffness: the same bits as one at a time), else one row.
+    const bool   pairs    = !paired_stiffness.empty();
+    StepEnergies energies = sum_over_blocks(
+      n,
+      block_energies,
+      [&](const std::size_t begin, const std::size_t end, StepEnergies &sums) {
+        for (std::size_t k = begin; k < end;)
+          {
+            const std::size_t i = owned_rows_only ? std::size_t(rows[k]) : k;
+            if (pairs && i % 2 == 0 && k + 1 < end &&
+                (!owned_rows_only || rows[k + 1] == i + 1))
+              {
+                double ku_first, ku_second;
+                paired_stiffness.products(i / 2, u, ku_first, ku_second);
+                row_step(i, ku_first, sums);
+                row_step(i + 1, ku_second, sums);
+                k += 2;
+                continue;
+              }
+            double ku = 0.;
+            for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
+              ku += values[j] * u[columns[j]];
+            row_step(i, ku, sums);
+            ++k;
+          }
+      });
     // Constrained unknowns do not count (as in the separate functions);
     // their acceleration is zero, so their velocity did not change.
     for (const auto &line : body_constraints.get_lines())

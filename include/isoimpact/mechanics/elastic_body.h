@@ -9,6 +9,7 @@
 #include <isoimpact/mechanics/assembly.h>
 #include <isoimpact/mechanics/mass_redistribution.h>
 #include <isoimpact/mechanics/mass_solver.h>
+#include <isoimpact/mechanics/paired_rows.h>
 
 #include <memory>
 #include <optional>
@@ -332,7 +333,9 @@ namespace isoimpact
     dealii::AffineConstraints<double>    body_constraints;
     dealii::SparsityPattern              sparsity_pattern;
     dealii::SparseMatrix<double>         stiffness;
-    dealii::SparseMatrix<double>         consistent_mass;
+    // The fused lumped step's copy of the stiffness rows in pairs.
+    PairedRows                   paired_stiffness;
+    dealii::SparseMatrix<double> consistent_mass;
     // Several ranks: the whole pattern of the consistent mass (the
     // stiffness has this rank's rows only).
     dealii::SparsityPattern mass_sparsity_pattern;
