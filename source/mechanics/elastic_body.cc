@@ -607,10 +607,44 @@ namespace isoimpact
             if (pairs && i % 2 == 0 && k + 1 < end &&
                 (!owned_rows_only || rows[k + 1] == i + 1))
               {
+#ifdef __SSE2__
+                // row_step() of both rows lane by lane (the same
+                // operations, the same bits), the energies' terms added
+                // row 2p's first.
+                const __m128d ku   = paired_stiffness.packed_products(i / 2, u);
+                const __m128d zero = _mm_setzero_pd();
+                const __m128d inverse = _mm_loadu_pd(w + i);
+                const __m128d ai      = _mm_andnot_pd(
+                  _mm_cmpeq_pd(inverse, zero),
+                  _mm_mul_pd(_mm_sub_pd(_mm_loadu_pd(force + i), ku), inverse));
+                _mm_storeu_pd(force + i, zero);
+                const __m128d previous = _mm_loadu_pd(vh + i);
+                if constexpr (form_whole_step_state)
+                  {
+                    _mm_storeu_pd(a + i, ai);
+                    _mm_storeu_pd(v + i,
+                                  _mm_add_pd(previous,
+                                             _mm_mul_pd(_mm_set1_pd(0.5 * dt),
+                                                        ai)));
+                  }
+                const __m128d next =
+                  _mm_add_pd(previous, _mm_mul_pd(_mm_set1_pd(dt), ai));
+                _mm_storeu_pd(vh + i, next);
+                const __m128d kinetic =
+                  _mm_mul_pd(_mm_mul_pd(previous, _mm_loadu_pd(mass + i)),
+                             next);
+                const __m128d strain = _mm_mul_pd(_mm_loadu_pd(u + i), ku);
+                sums.kinetic += _mm_cvtsd_f64(kinetic);
+                sums.strain += _mm_cvtsd_f64(strain);
+                sums.kinetic +=
+                  _mm_cvtsd_f64(_mm_unpackhi_pd(kinetic, kinetic));
+                sums.strain += _mm_cvtsd_f64(_mm_unpackhi_pd(strain, strain));
+#else
                 double ku_first, ku_second;
                 paired_stiffness.products(i / 2, u, ku_first, ku_second);
                 row_step(i, ku_first, sums);
                 row_step(i + 1, ku_second, sums);
+#endif
                 k += 2;
                 continue;
               }

@@ -68,6 +68,12 @@ namespace isoimpact
              double           &first,
              double           &second) const;
 
+#ifdef __SSE2__
+    // The same in the two lanes of an SSE2 register (lane 0 row 2p).
+    inline __m128d
+    packed_products(const std::size_t p, const double *u) const;
+#endif
+
     std::size_t
     memory_consumption() const;
 
@@ -87,11 +93,9 @@ namespace isoimpact
   };
 
 
-  inline void
-  PairedRows::products(const std::size_t p,
-                       const double     *u,
-                       double           &first,
-                       double           &second) const
+#ifdef __SSE2__
+  inline __m128d
+  PairedRows::packed_products(const std::size_t p, const double *u) const
   {
     const std::size_t   begin  = pair_start[p];
     const std::size_t   middle = begin + blocks_before_diagonal[p];
@@ -99,9 +103,7 @@ namespace isoimpact
     const unsigned int *pairs  = block_column_pair.data();
     const double       *values = block_values.data();
     const double       *d      = diagonal_values.data() + 4 * p;
-#ifdef __SSE2__
-    // Lane 0 row 2p, lane 1 row 2p + 1.
-    const __m128d own = _mm_loadu_pd(u + 2 * p);
+    const __m128d       own    = _mm_loadu_pd(u + 2 * p);
     __m128d sum = _mm_add_pd(_mm_setzero_pd(), _mm_mul_pd(_mm_load_pd(d), own));
     const auto add_blocks = [&](const std::size_t from, const std::size_t to) {
       for (std::size_t b = from; b < to; ++b)
@@ -123,11 +125,30 @@ namespace isoimpact
       _mm_add_pd(sum,
                  _mm_mul_pd(_mm_load_pd(d + 2), _mm_shuffle_pd(own, own, 1)));
     add_blocks(middle, end);
-    first  = _mm_cvtsd_f64(sum);
-    second = _mm_cvtsd_f64(_mm_unpackhi_pd(sum, sum));
+    return sum;
+  }
+#endif
+
+
+  inline void
+  PairedRows::products(const std::size_t p,
+                       const double     *u,
+                       double           &first,
+                       double           &second) const
+  {
+#ifdef __SSE2__
+    const __m128d sum = packed_products(p, u);
+    first             = _mm_cvtsd_f64(sum);
+    second            = _mm_cvtsd_f64(_mm_unpackhi_pd(sum, sum));
 #else
-    double     sum0       = 0. + d[0] * u[2 * p];
-    double     sum1       = 0. + d[1] * u[2 * p + 1];
+    const std::size_t   begin  = pair_start[p];
+    const std::size_t   middle = begin + blocks_before_diagonal[p];
+    const std::size_t   end    = pair_start[p + 1];
+    const unsigned int *pairs  = block_column_pair.data();
+    const double       *values = block_values.data();
+    const double       *d      = diagonal_values.data() + 4 * p;
+    double              sum0   = 0. + d[0] * u[2 * p];
+    double              sum1   = 0. + d[1] * u[2 * p + 1];
     const auto add_blocks = [&](const std::size_t from, const std::size_t to) {
       for (std::size_t b = from; b < to; ++b)
         {
