@@ -297,8 +297,15 @@ namespace isoimpact
             for (const auto &line : body_constraints.get_lines())
               step_inverse_mass(line.index) = 0.;
             // The fused pass's K u two rows at a time, the same bits as
-            // vmult's (doc/performance.md, session 23).
+            // vmult's (doc/performance.md, session 23). They pay where a
+            // node's components are numbered 2p and 2p + 1 (IGA always,
+            // FEA's Cuthill-McKee numbering in practice); a numbering that
+            // splits them would fill the blocks with zeros: then one row
+            // at a time.
             paired_stiffness.build(stiffness);
+            if (paired_stiffness.n_stored_entries() >
+                1.25 * stiffness.n_nonzero_elements())
+              paired_stiffness = PairedRows();
           }
       }
 
