@@ -78,6 +78,26 @@ namespace isoimpact
     memory_consumption() const;
 
   private:
+    // Where pair p's entries are: its blocks from begin to end, those below
+    // the diagonal before middle; the arrays; its diagonal block.
+    struct Pair
+    {
+      std::size_t         begin, middle, end;
+      const unsigned int *column_pairs;
+      const double       *values;
+      const double       *diagonal;
+    };
+    Pair
+    pair(const std::size_t p) const
+    {
+      return {pair_start[p],
+              pair_start[p] + blocks_before_diagonal[p],
+              pair_start[p + 1],
+              block_column_pair.data(),
+              block_values.data(),
+              diagonal_values.data() + 4 * p};
+    }
+
     // Pair p's off-diagonal blocks: pair_start[p] to pair_start[p + 1]; the
     // blocks of columns below 2p are the first ones, up to
     // pair_start[p] + blocks_before_diagonal[p].
@@ -97,13 +117,8 @@ namespace isoimpact
   inline __m128d
   PairedRows::packed_products(const std::size_t p, const double *u) const
   {
-    const std::size_t   begin  = pair_start[p];
-    const std::size_t   middle = begin + blocks_before_diagonal[p];
-    const std::size_t   end    = pair_start[p + 1];
-    const unsigned int *pairs  = block_column_pair.data();
-    const double       *values = block_values.data();
-    const double       *d      = diagonal_values.data() + 4 * p;
-    const __m128d       own    = _mm_loadu_pd(u + 2 * p);
+    const auto [begin, middle, end, pairs, values, d] = pair(p);
+    const __m128d own                                 = _mm_loadu_pd(u + 2 * p);
     __m128d sum = _mm_add_pd(_mm_setzero_pd(), _mm_mul_pd(_mm_load_pd(d), own));
     const auto add_blocks = [&](const std::size_t from, const std::size_t to) {
       for (std::size_t b = from; b < to; ++b)
@@ -141,14 +156,9 @@ namespace isoimpact
     first             = _mm_cvtsd_f64(sum);
     second            = _mm_cvtsd_f64(_mm_unpackhi_pd(sum, sum));
 #else
-    const std::size_t   begin  = pair_start[p];
-    const std::size_t   middle = begin + blocks_before_diagonal[p];
-    const std::size_t   end    = pair_start[p + 1];
-    const unsigned int *pairs  = block_column_pair.data();
-    const double       *values = block_values.data();
-    const double       *d      = diagonal_values.data() + 4 * p;
-    double              sum0   = 0. + d[0] * u[2 * p];
-    double              sum1   = 0. + d[1] * u[2 * p + 1];
+    const auto [begin, middle, end, pairs, values, d] = pair(p);
+    double     sum0                                   = 0. + d[0] * u[2 * p];
+    double     sum1       = 0. + d[1] * u[2 * p + 1];
     const auto add_blocks = [&](const std::size_t from, const std::size_t to) {
       for (std::size_t b = from; b < to; ++b)
         {
