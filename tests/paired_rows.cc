@@ -122,6 +122,16 @@ namespace
                     1.,
                     0.,
                     true);
+        // PairedRows::vmult: the pairs in ranges over the threads.
+        Vector<double> by_paired_vmult(K.m());
+        pairs.vmult(by_paired_vmult, *x);
+        check_close(name + (x == &u ? "" : ", u with zeros") +
+                      ": max |PairedRows::vmult - K u (vmult)|",
+                    largest_difference(by_paired_vmult, by_vmult),
+                    0.,
+                    1.,
+                    0.,
+                    true);
         // Control: the row sums in another order (the coupling inside the
         // pair added last) do not have vmult's bits.
         for (unsigned int row = 0; row < K.m(); ++row)

@@ -296,17 +296,21 @@ namespace isoimpact
             step_inverse_mass = inverse_lumped_mass;
             for (const auto &line : body_constraints.get_lines())
               step_inverse_mass(line.index) = 0.;
-            // The fused pass's K u two rows at a time, the same bits as
-            // vmult's (doc/performance.md, session 23). They pay where a
-            // node's components are numbered 2p and 2p + 1 (IGA always,
-            // FEA's Cuthill-McKee numbering in practice); a numbering that
-            // splits them would fill the blocks with zeros: then one row
-            // at a time.
-            paired_stiffness.build(stiffness);
-            if (paired_stiffness.n_stored_entries() >
-                1.25 * stiffness.n_nonzero_elements())
-              paired_stiffness = PairedRows();
           }
+      }
+
+    // K u two rows at a time, the same bits as vmult's
+    // (doc/performance.md, sessions 23 and 24): in the fused lumped pass
+    // and in the consistent step. They pay where a node's components are
+    // numbered 2p and 2p + 1 (IGA always, FEA's Cuthill-McKee numbering in
+    // practice); a numbering that splits them would fill the blocks with
+    // zeros: then one row at a time.
+    if (fused_lumped_step || mass_solver)
+      {
+        paired_stiffness.build(stiffness);
+        if (paired_stiffness.n_stored_entries() >
+            1.25 * stiffness.n_nonzero_elements())
+          paired_stiffness = PairedRows();
       }
 
     // Several ranks without the fused step (consistent mass, hanging
@@ -425,6 +429,17 @@ namespace isoimpact
 
   template <int dim>
   void
+  ElasticBody<dim>::multiply_by_stiffness(Vector<double>       &y,
+                                          const Vector<double> &u) const
+  {
+    if (paired_stiffness.empty())
+      stiffness.vmult(y, u);
+    else
+      paired_stiffness.vmult(y, u); // the same bits
+  }
+
+  template <int dim>
+  void
   ElasticBody<dim>::compute_acceleration(const Vector<double> &u,
                                          Vector<double>       &f,
                                          Vector<double>       &a) const
@@ -434,7 +449,7 @@ namespace isoimpact
     if (fused_lumped_step)
       {
         stiffness_times_u.reinit(u.size(), true);
-        stiffness.vmult(stiffness_times_u, u);
+        multiply_by_stiffness(stiffness_times_u, u);
         // Several ranks: each holds its rows of K; the whole product (the
         // initial acceleration) from their owners.
         row_exchange.gather(stiffness_times_u);
@@ -443,7 +458,7 @@ namespace isoimpact
       }
     body_constraints.condense(f);
     stiffness_times_u.reinit(u.size(), true);
-    stiffness.vmult(stiffness_times_u, u);
+    multiply_by_stiffness(stiffness_times_u, u);
     row_exchange.gather(stiffness_times_u); // several ranks: see above
     f -= stiffness_times_u;
     body_constraints.set_zero(f);

@@ -1,4 +1,7 @@
 // Layer 4: the stiffness rows in pairs of unknowns.
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/parallel.h>
+
 #include <isoimpact/mechanics/paired_rows.h>
 
 #include <algorithm>
@@ -88,6 +91,27 @@ namespace isoimpact
               }
           }
       }
+  }
+
+  void
+  PairedRows::vmult(Vector<double> &y, const Vector<double> &u) const
+  {
+    AssertDimension(u.size(), 2 * n_pairs());
+    AssertDimension(y.size(), 2 * n_pairs());
+    const double *in  = u.data();
+    double       *out = y.data();
+    parallel::apply_to_subranges(
+      std::size_t(0),
+      n_pairs(),
+      [this, in, out](const std::size_t begin, const std::size_t end) {
+        for (std::size_t p = begin; p < end; ++p)
+#ifdef __SSE2__
+          _mm_storeu_pd(out + 2 * p, packed_products(p, in));
+#else
+          products(p, in, out[2 * p], out[2 * p + 1]);
+#endif
+      },
+      1024);
   }
 
   std::size_t

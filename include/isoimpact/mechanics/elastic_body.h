@@ -325,6 +325,10 @@ namespace isoimpact
     void
     solve_mass(dealii::Vector<double>       &a,
                const dealii::Vector<double> &f) const;
+    // y = K u (this rank's rows), through the pairs where they exist.
+    void
+    multiply_by_stiffness(dealii::Vector<double>       &y,
+                          const dealii::Vector<double> &u) const;
 
     std::string                          body_name;
     std::unique_ptr<Discretization<dim>> discretization_ptr;
@@ -333,7 +337,7 @@ namespace isoimpact
     dealii::AffineConstraints<double>    body_constraints;
     dealii::SparsityPattern              sparsity_pattern;
     dealii::SparseMatrix<double>         stiffness;
-    // The fused lumped step's copy of the stiffness rows in pairs.
+    // A copy of the stiffness rows in pairs, for the step's K u.
     PairedRows                   paired_stiffness;
     dealii::SparseMatrix<double> consistent_mass;
     // Several ranks: the whole pattern of the consistent mass (the

@@ -7,6 +7,7 @@
 #include <deal.II/base/aligned_vector.h>
 
 #include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/vector.h>
 
 #include <cstddef>
 #include <vector>
@@ -73,6 +74,12 @@ namespace isoimpact
     inline __m128d
     packed_products(const std::size_t p, const double *u) const;
 #endif
+
+    // y = K u, every pair (u and y of the matrix's size, not aliased): the
+    // bits of SparseMatrix::vmult, the pairs split into ranges over the
+    // threads.
+    void
+    vmult(dealii::Vector<double> &y, const dealii::Vector<double> &u) const;
 
     std::size_t
     memory_consumption() const;
