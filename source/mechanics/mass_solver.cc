@@ -128,7 +128,8 @@ namespace isoimpact
     // block's lower triangle: per group (rows [f, f + m)) the columns [0,
     // f), m values each, then the group's own triangle column by column
     // (the diagonal, then the group's rows below it); then the rows below
-    // the diagonal block, n_cols values per row.
+    // the diagonal block, n_cols values per row. The backward substitution
+    // reads the same copy from its end to its start.
     // CHOLMOD's block also stores the upper triangle, and its columns are
     // read with gaps; this copy has neither.
     struct PackedValues
@@ -139,12 +140,6 @@ namespace isoimpact
 
       std::vector<double>      values;
       std::vector<std::size_t> offset; // per supernode, and the end
-      // The same values in the order of the backward substitution:
-      // supernodes last first, each with its rows below first (columns
-      // two by two, see Supernode::backward_below_columns()), then the
-      // diagonal block's columns last first.
-      std::vector<double>      backward_values;
-      std::vector<std::size_t> backward_offset; // per supernode
 
       void
       pack(const cholmod_factor &L)
@@ -192,29 +187,6 @@ namespace isoimpact
                     *target++ = block[j * n_rows + r];
               }
           }
-        backward_values.resize(offset.back());
-        backward_offset.assign(L.nsuper, 0);
-        double *target = backward_values.data();
-        for (std::size_t s = L.nsuper; s-- > 0;)
-          {
-            const std::size_t n_cols = super[s + 1] - super[s];
-            const std::size_t n_rows = pi[s + 1] - pi[s];
-            const double     *block  = x + px[s];
-            backward_offset[s]       = target - backward_values.data();
-            // The rows below, two columns side by side (row by row), the
-            // last column alone if their number is odd.
-            for (std::size_t j = 0; j < n_cols; j += 2)
-              {
-                const std::size_t n_side = std::min<std::size_t>(2, n_cols - j);
-                for (std::size_t r = n_cols; r < n_rows; ++r)
-                  for (std::size_t k = 0; k < n_side; ++k)
-                    *target++ = block[(j + k) * n_rows + r];
-              }
-            for (std::size_t j = n_cols; j-- > 0;)
-              target = std::copy(block + j * n_rows + j,
-                                 block + j * n_rows + n_cols,
-                                 target);
-          }
       }
     };
 
@@ -225,7 +197,7 @@ namespace isoimpact
     {
       int           k1, n_cols, n_rows, n_below;
       const int    *rows;
-      const double *triangle, *lower, *backward_lower, *backward_triangle;
+      const double *triangle, *lower;
 
       Supernode(const cholmod_factor &L,
                 const PackedValues   &packed,
@@ -240,27 +212,17 @@ namespace isoimpact
         rows              = static_cast<const int *>(L.s) + pi[s] + n_cols;
         triangle          = packed.values.data() + packed.offset[s];
         lower             = triangle + std::size_t(n_cols) * (n_cols + 1) / 2;
-        backward_lower =
-          packed.backward_values.data() + packed.backward_offset[s];
-        backward_triangle = backward_lower + std::size_t(n_below) * n_cols;
       }
 
-      // Columns j and j + 1 (j even) of the rows below the diagonal block,
-      // from the backward copy: row by row, the two columns' values side by
-      // side (column j alone if it is the last).
+      // The values of the diagonal block's group of rows that starts at
+      // row `first` (a multiple of rows_per_group): every group before it
+      // has rows_per_group rows.
       const double *
-      backward_below_columns(const int j) const
+      diagonal_group(const int first) const
       {
-        return backward_lower + std::size_t(j) * n_below;
-      }
-
-      // Column j of the diagonal block from its diagonal down (entry r - j
-      // is row k1 + r), from the backward copy.
-      const double *
-      backward_diagonal_column(const int j) const
-      {
-        const std::size_t after = n_cols - j - 1;
-        return backward_triangle + after * (after + 1) / 2;
+        const std::size_t     g = first / PackedValues::rows_per_group;
+        constexpr std::size_t m = PackedValues::rows_per_group;
+        return triangle + g * (g - 1) / 2 * m * m + g * m * (m + 1) / 2;
       }
 
       // The group of rows below the diagonal block that starts at row
@@ -272,29 +234,6 @@ namespace isoimpact
         return lower + std::size_t(first) * n_cols;
       }
     };
-
-    // sum[c] += sum_r a[r] b[r * nc + c], with four partial sums per c: one
-    // sum alone would wait for each addition (a chain of latencies).
-    template <int nc>
-    inline void
-    add_dots(const double *__restrict a,
-             const double *__restrict b,
-             const int n,
-             double *__restrict sum)
-    {
-      double partial[4][nc] = {};
-      int    r              = 0;
-      for (; r + 4 <= n; r += 4)
-        for (int k = 0; k < 4; ++k)
-          for (int c = 0; c < nc; ++c)
-            partial[k][c] += a[r + k] * b[(r + k) * nc + c];
-      for (; r < n; ++r)
-        for (int c = 0; c < nc; ++c)
-          partial[0][c] += a[r] * b[r * nc + c];
-      for (int c = 0; c < nc; ++c)
-        sum[c] +=
-          (partial[0][c] + partial[1][c]) + (partial[2][c] + partial[3][c]);
-    }
 
     // f(std::integral_constant<int, m>()) for a group of m rows, 1 <= m <=
     // rows_per_group: the kernels below take the group's size as a
@@ -340,41 +279,6 @@ namespace isoimpact
       for (int q = 0; q < n_rows; ++q)
         for (int c = 0; c < nc; ++c)
           sum[q][c] = partial[q][c];
-    }
-
-    // add_dots() for two columns whose values a lie side by side (a[2 r]
-    // and a[2 r + 1] in row r): each sum as add_dots() forms it (the same
-    // bits), b read once for both.
-    template <int nc>
-    inline void
-    add_dots_pair(const double *__restrict a,
-                  const double *__restrict b,
-                  const int n,
-                  double *__restrict sum0,
-                  double *__restrict sum1)
-    {
-      double partial0[4][nc] = {}, partial1[4][nc] = {};
-      int    r = 0;
-      for (; r + 4 <= n; r += 4)
-        for (int k = 0; k < 4; ++k)
-          for (int c = 0; c < nc; ++c)
-            {
-              partial0[k][c] += a[2 * (r + k)] * b[(r + k) * nc + c];
-              partial1[k][c] += a[2 * (r + k) + 1] * b[(r + k) * nc + c];
-            }
-      for (; r < n; ++r)
-        for (int c = 0; c < nc; ++c)
-          {
-            partial0[0][c] += a[2 * r] * b[r * nc + c];
-            partial1[0][c] += a[2 * r + 1] * b[r * nc + c];
-          }
-      for (int c = 0; c < nc; ++c)
-        {
-          sum0[c] += (partial0[0][c] + partial0[1][c]) +
-                     (partial0[2][c] + partial0[3][c]);
-          sum1[c] += (partial1[0][c] + partial1[1][c]) +
-                     (partial1[2][c] + partial1[3][c]);
-        }
     }
 
     // The forward substitution of the diagonal block's rows [first, first
@@ -462,12 +366,35 @@ namespace isoimpact
         }
     }
 
+    // sums[j * nc + c] += sum_q group[j * m + q] x[q][c] for the columns j
+    // of a group of m rows (stored column by column), q in the order of
+    // the rows: the transposed products of the backward substitution, the
+    // columns last first (the group's values read from its end).
+    template <int nc, int m>
+    inline void
+    add_transposed_products(const double *__restrict group,
+                            const double (&x)[PackedValues::rows_per_group][nc],
+                            const int n_cols,
+                            double *__restrict sums)
+    {
+      for (int j = n_cols - 1; j >= 0; --j)
+        for (int c = 0; c < nc; ++c)
+          {
+            double sum = sums[j * nc + c];
+            for (int q = 0; q < m; ++q)
+              sum += group[j * m + q] * x[q][c];
+            sums[j * nc + c] = sum;
+          }
+    }
+
     // Backward substitution L^T x = z over the supernodes [s_begin, s_end),
-    // last first; the rows below them must be final. `work` holds
-    // (n_below + n_cols) * nc values. Each supernode's block is read in
-    // the order it is stored (the products with the rows below, two
-    // columns at a time, first): read backwards, it was the slowest part of
-    // the solve.
+    // last first; the rows below them must be final. It reads the forward
+    // substitution's copy (no second copy in another order) from its end
+    // towards its start, one descending stream: per supernode the groups
+    // of rows below the diagonal block last first, then the diagonal
+    // block's groups last first, each group's products added to one sum
+    // per column (`work`: n_cols * nc values), each group's own rows solved
+    // when the groups after it are done.
     template <int nc>
     void
     backward(const cholmod_factor &L,
@@ -477,44 +404,69 @@ namespace isoimpact
              double *__restrict y,
              double *__restrict work)
     {
+      constexpr int group_size = PackedValues::rows_per_group;
       for (int s = s_end - 1; s >= s_begin; --s)
         {
           const Supernode node(L, packed, s);
-          double *__restrict x = y + std::size_t(node.k1) * nc;
-          for (int r = 0; r < node.n_below; ++r)
-            for (int c = 0; c < nc; ++c)
-              work[r * nc + c] = y[std::size_t(node.rows[r]) * nc + c];
-          double *__restrict below_sums = work + node.n_below * nc;
+          double *__restrict x    = y + std::size_t(node.k1) * nc;
+          double *__restrict sums = work;
           for (int i = 0; i < node.n_cols * nc; ++i)
-            below_sums[i] = 0.;
-          for (int j = 0; j < node.n_cols; j += 2)
-            if (j + 1 < node.n_cols)
-              add_dots_pair<nc>(node.backward_below_columns(j),
-                                work,
-                                node.n_below,
-                                below_sums + j * nc,
-                                below_sums + (j + 1) * nc);
-            else
-              add_dots<nc>(node.backward_below_columns(j),
-                           work,
-                           node.n_below,
-                           below_sums + j * nc);
-          for (int j = node.n_cols - 1; j >= 0; --j)
+            sums[i] = 0.;
+          for (int first = node.n_below > 0 ?
+                             (node.n_below - 1) / group_size * group_size :
+                             -1;
+               first >= 0;
+               first -= group_size)
             {
-              const double *__restrict column =
-                node.backward_diagonal_column(j);
-              double sum[nc];
-              for (int c = 0; c < nc; ++c)
-                sum[c] = below_sums[j * nc + c];
-              add_dots<nc>(column + 1,
-                           x + (j + 1) * nc,
-                           node.n_cols - j - 1,
-                           sum);
-              for (int c = 0; c < nc; ++c)
-                x[j * nc + c] = (x[j * nc + c] - sum[c]) / column[0];
+              const int n_rows = std::min(group_size, node.n_below - first);
+              double    below[group_size][nc];
+              for (int q = 0; q < n_rows; ++q)
+                for (int c = 0; c < nc; ++c)
+                  below[q][c] = y[std::size_t(node.rows[first + q]) * nc + c];
+              with_group_size(n_rows, [&](const auto m) {
+                add_transposed_products<nc, decltype(m)::value>(
+                  node.below_group(first),
+                  below,
+                  node.n_cols,
+                  sums);
+              });
             }
+          const int last_group = (node.n_cols - 1) / group_size * group_size;
+          for (int first = last_group; first >= 0; first -= group_size)
+            with_group_size(std::min(group_size, node.n_cols - first),
+                            [&](const auto m) {
+                              constexpr int n_rows = decltype(m)::value;
+                              const double *values = node.diagonal_group(first);
+                              // The group's own triangle, column by column (its
+                              // diagonal entry, then the group's rows below
+                              // it), solved last column first.
+                              const double *own =
+                                values + std::size_t(first) * n_rows;
+                              double solved[group_size][nc];
+                              for (int i = n_rows - 1; i >= 0; --i)
+                                {
+                                  const double *column =
+                                    own + i * n_rows - i * (i - 1) / 2;
+                                  for (int c = 0; c < nc; ++c)
+                                    {
+                                      double sum = sums[(first + i) * nc + c];
+                                      for (int q = i + 1; q < n_rows; ++q)
+                                        sum += column[q - i] * solved[q][c];
+                                      solved[i][c] = x[(first + i) * nc + c] =
+                                        (x[(first + i) * nc + c] - sum) /
+                                        column[0];
+                                    }
+                                }
+                              // Its rows' products with the columns before the
+                              // group.
+                              add_transposed_products<nc, n_rows>(values,
+                                                                  solved,
+                                                                  first,
+                                                                  sums);
+                            });
         }
     }
+
 
     // Several ranks: every rank receives the values that the other ranks'
     // tasks computed, those of task t at [offset(t), offset(t + 1)) of
@@ -963,15 +915,15 @@ namespace isoimpact
                    MultithreadInfo::n_threads() * n_processes(communicator)));
         factor->distribute_tasks(communicator);
         factor->y.resize(std::size_t(m) * nc);
-        // The rows below a supernode, and one sum per column (backward).
+        // One sum per column of a supernode (backward).
         int max_columns = 0;
         for (std::size_t s = 0; s < factor->L->nsuper; ++s)
           max_columns =
             std::max(max_columns,
                      Supernode(*factor->L, factor->packed, s).n_cols);
         factor->below.assign(factor->n_tasks() + 1,
-                             std::vector<double>(
-                               (factor->L->maxesize + max_columns) * nc));
+                             std::vector<double>(std::size_t(max_columns) *
+                                                 nc));
         if (factor->n_tasks() > 1)
           factor->separator_updates.assign(factor->n_tasks() *
                                              factor->separator_size(),
@@ -1158,15 +1110,10 @@ namespace isoimpact
     for (const auto &factor : factors)
       {
         const cholmod_factor *L = factor->L;
-        // Values (twice: in the forward and the backward order), supernode
-        // patterns and pointers, permutation; gather indices and the work
-        // arrays of the solve.
-        bytes += (factor->packed.values.size() +
-                  factor->packed.backward_values.size()) *
-                   sizeof(double) +
-                 (factor->packed.offset.size() +
-                  factor->packed.backward_offset.size()) *
-                   sizeof(std::size_t) +
+        // Values, supernode patterns and pointers, permutation; gather
+        // indices and the work arrays of the solve.
+        bytes += factor->packed.values.size() * sizeof(double) +
+                 factor->packed.offset.size() * sizeof(std::size_t) +
                  L->ssize * sizeof(int) +
                  (3 * L->nsuper + 3 + L->n) * sizeof(int) +
                  factor->gather.size() * sizeof(Index) +

@@ -69,8 +69,8 @@ namespace isoimpact
     std::size_t
     factor_nonzeros() const;
     // Entries stored in the supernodes (nonzeros and the zeros of relaxed
-    // amalgamation), counted once: the solver keeps them twice, in the
-    // order of each substitution (memory_consumption() counts both).
+    // amalgamation), stored once, in the order in which both substitutions
+    // read them.
     std::size_t
     factor_stored_entries() const;
     // Bytes held by the factors and the work arrays of the solve.
