@@ -1,14 +1,14 @@
 // Layer 4: solves M a = f for a consistent mass matrix with a sparse
-// Cholesky factorisation computed once (CHOLMOD, METIS ordering,
-// supernodal). The mass rho N_A N_B couples no two displacement components,
-// so it is factorised per component: a factor of n / dim rows, shared by the
-// components whose blocks are equal up to rows that carry a diagonal entry
-// only (a roller's constrained unknowns). Such rows are ordered last, so
-// that the factor of the smaller block is the leading block of the shared
-// factor; the components of a factor are solved together (one pass over the
-// factor for all of them), and the independent subtrees of its elimination
-// tree in parallel: by threads, and on several MPI ranks by the ranks, each
-// solving its own subtrees (doc/parallel.md, "consistent mass").
+// Cholesky factorisation computed once (CHOLMOD, nested dissection
+// ordering (NESDIS), supernodal). The mass rho N_A N_B couples no two
+// displacement components, so it is factorised per component: a factor of n /
+// dim rows, shared by the components whose blocks are equal up to rows that
+// carry a diagonal entry only (a roller's constrained unknowns). Such rows are
+// ordered last, so that the factor of the smaller block is the leading block of
+// the shared factor; the components of a factor are solved together (one pass
+// over the factor for all of them), and the independent subtrees of its
+// elimination tree in parallel: by threads, and on several MPI ranks by the
+// ranks, each solving its own subtrees (doc/parallel.md, "consistent mass").
 #ifndef isoimpact_mass_solver_h
 #define isoimpact_mass_solver_h
 
