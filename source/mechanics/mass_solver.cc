@@ -522,11 +522,12 @@ namespace isoimpact
     MPI_Comm                  communicator = MPI_COMM_SELF;
     unsigned int              rank         = 0;
     std::vector<unsigned int> rank_task_begin;
-    // Work: right-hand sides interleaved by component; per task the rows
-    // below one supernode; the tasks' updates of the separator rows, task
-    // after task (separator_size() values each).
+    // Work: right-hand sides interleaved by component; per task (and the
+    // separator) the backward substitution's sums per column of one
+    // supernode; the tasks' updates of the separator rows, task after task
+    // (separator_size() values each).
     mutable std::vector<double>              y;
-    mutable std::vector<std::vector<double>> below;
+    mutable std::vector<std::vector<double>> column_sums;
     mutable std::vector<double>              separator_updates;
 
     Factor()
@@ -925,9 +926,9 @@ namespace isoimpact
           max_columns =
             std::max(max_columns,
                      Supernode(*factor->L, factor->packed, s).n_cols);
-        factor->below.assign(factor->n_tasks() + 1,
-                             std::vector<double>(std::size_t(max_columns) *
-                                                 nc));
+        factor->column_sums.assign(factor->n_tasks() + 1,
+                                   std::vector<double>(
+                                     std::size_t(max_columns) * nc));
         if (factor->n_tasks() > 1)
           factor->separator_updates.assign(factor->n_tasks() *
                                              factor->separator_size(),
@@ -998,7 +999,7 @@ namespace isoimpact
                  n_tasks > 1 ? split : 0,
                  n_super,
                  y,
-                 factor.below[n_tasks].data());
+                 factor.column_sums[n_tasks].data());
     if (n_tasks > 1)
       {
         Threads::TaskGroup<void> tasks;
@@ -1009,7 +1010,7 @@ namespace isoimpact
                          factor.task_begin[t],
                          factor.task_begin[t + 1],
                          y,
-                         factor.below[t].data());
+                         factor.column_sums[t].data());
           });
         tasks.join_all();
         // Every rank's subtrees' values, from the ranks that computed them.
@@ -1122,7 +1123,7 @@ namespace isoimpact
                  (3 * L->nsuper + 3 + L->n) * sizeof(int) +
                  factor->gather.size() * sizeof(Index) +
                  factor->y.size() * sizeof(double);
-        for (const auto &work : factor->below)
+        for (const auto &work : factor->column_sums)
           bytes += work.size() * sizeof(double);
         bytes += factor->separator_updates.size() * sizeof(double);
       }
