@@ -58,9 +58,10 @@ namespace isoimpact
    * The constructor solves the motion once by energy conservation: the time
    * t(delta) is a Gauss quadrature of d delta / v(delta) near the start and,
    * near the turning point, of m* dv / P written in the angle phi with
-   * v = v0 cos(phi), where both integrands are smooth. Queries invert these
-   * quadratures by Newton within one stored interval (no interpolation
-   * error). Unloading mirrors loading: P(t) = P(duration - t).
+   * v = v0 cos(phi), where both integrands are smooth. Queries solve, by
+   * Newton within one stored interval, a Chebyshev series of t(s) that
+   * interpolates the quadrature (contact_force_by_quadrature() solves the
+   * quadrature itself). Unloading mirrors loading: P(t) = P(duration - t).
    */
   class HertzImpactReference
   {
@@ -121,6 +122,10 @@ namespace isoimpact
     // P(t): 0 before t = 0 and from contact_duration() on.
     double
     contact_force(const double time) const;
+    // P(t) by Newton on the quadrature itself, without the Chebyshev series
+    // of t(s) that contact_force() solves (50 times slower; for checks).
+    double
+    contact_force_by_quadrature(const double time) const;
     // delta(t): 0 outside the contact.
     double
     approach_at_time(const double time) const;
@@ -158,9 +163,24 @@ namespace isoimpact
     time_between(const unsigned int phase,
                  const double       s_begin,
                  const double       s_end) const;
+    // The interval of a phase that holds a time, and the parameter s at
+    // that time in it: Newton on the quadrature, or on the Chebyshev series.
+    unsigned int
+    interval_of(const unsigned int phase, const double time) const;
+    double
+    parameter_by_quadrature(const unsigned int phase,
+                            const unsigned int k,
+                            const double       time) const;
+    double
+    parameter_by_interpolant(const unsigned int phase,
+                             const unsigned int k,
+                             const double       time) const;
     // The force and approach on the loading half at 0 <= time <= time_of_peak.
     void
-    loading_state(const double time, double &force, double &delta) const;
+    loading_state(const double time,
+                  double      &force,
+                  double      &delta,
+                  const bool   by_quadrature = false) const;
 
     ApproachLaw law;
     double      v0;
@@ -184,6 +204,11 @@ namespace isoimpact
     // Nodes of the parameter and the time at each, per phase.
     std::vector<double> parameter_nodes[2];
     std::vector<double> time_nodes[2];
+    // Per phase and interval, chebyshev_degree + 1 Chebyshev coefficients
+    // of t(x) (x in [-1, 1] over the interval) and of dt/dx.
+    static constexpr unsigned int chebyshev_degree = 16;
+    std::vector<double>           time_coefficients[2];
+    std::vector<double>           slope_coefficients_of_time[2];
   };
 } // namespace isoimpact
 
