@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <charconv>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -116,7 +117,9 @@ namespace isoimpact
     // The data arrays of a VTK XML file in its appended section (raw
     // binary: no base64, which took as long as the compression). Each block
     // is a UInt64 header and the bytes; with zlib, the header of VTK's
-    // vtkZLibDataCompressor (one block) and zlib's fastest level.
+    // vtkZLibDataCompressor (one block) and zlib's fastest level. Without
+    // compression the arrays are not copied: add() keeps a pointer, and the
+    // data must live until write().
     class AppendedArrays
     {
     public:
@@ -139,30 +142,36 @@ namespace isoimpact
         if (!name.empty())
           element << " Name=\"" << name << '"';
         element << " NumberOfComponents=\"" << n_components
-                << "\" format=\"appended\" offset=\"" << bytes.size()
-                << "\"/>\n";
+                << "\" format=\"appended\" offset=\"" << offset << "\"/>\n";
         const std::uint64_t size  = data.size() * sizeof(T);
         const auto         *begin = reinterpret_cast<const char *>(data.data());
+        Block               block;
         if (!compress)
           {
-            append(&size, sizeof(size));
-            bytes.append(begin, size);
-            return element.str();
+            block.header         = {{size}};
+            block.n_header_words = 1;
+            block.data           = begin;
+            block.size           = size;
           }
-        uLongf                     compressed_size = compressBound(size);
-        std::vector<unsigned char> compressed(compressed_size);
-        const int                  status = compress2(compressed.data(),
-                                     &compressed_size,
-                                     reinterpret_cast<const Bytef *>(begin),
-                                     size,
-                                     Z_BEST_SPEED);
-        AssertThrow(status == Z_OK, ExcMessage("zlib compression failed"));
-        // blocks, block size, size of the last block, compressed sizes
-        const std::array<std::uint64_t, 4> header = {
-          {1, size, size, std::uint64_t(compressed_size)}};
-        append(header.data(), sizeof(header));
-        bytes.append(reinterpret_cast<const char *>(compressed.data()),
-                     compressed_size);
+        else
+          {
+            uLongf compressed_size = compressBound(size);
+            block.compressed.resize(compressed_size);
+            const int status =
+              compress2(reinterpret_cast<Bytef *>(block.compressed.data()),
+                        &compressed_size,
+                        reinterpret_cast<const Bytef *>(begin),
+                        size,
+                        Z_BEST_SPEED);
+            AssertThrow(status == Z_OK, ExcMessage("zlib compression failed"));
+            // blocks, block size, size of the last block, compressed sizes
+            block.header         = {{1, size, size, compressed_size}};
+            block.n_header_words = 4;
+            block.data           = block.compressed.data();
+            block.size           = compressed_size;
+          }
+        offset += block.n_header_words * sizeof(std::uint64_t) + block.size;
+        blocks.push_back(std::move(block));
         return element.str();
       }
 
@@ -179,19 +188,28 @@ namespace isoimpact
       write(std::ostream &out) const
       {
         out << "<AppendedData encoding=\"raw\">\n_";
-        out.write(bytes.data(), bytes.size());
+        for (const auto &block : blocks)
+          {
+            out.write(reinterpret_cast<const char *>(block.header.data()),
+                      block.n_header_words * sizeof(std::uint64_t));
+            out.write(block.data, block.size);
+          }
         out << "\n</AppendedData>\n";
       }
 
     private:
-      void
-      append(const void *data, const std::size_t size)
+      struct Block
       {
-        bytes.append(static_cast<const char *>(data), size);
-      }
+        std::array<std::uint64_t, 4> header         = {};
+        unsigned int                 n_header_words = 0;
+        const char                  *data           = nullptr;
+        std::uint64_t                size           = 0;
+        std::vector<char>            compressed;
+      };
 
-      const bool  compress;
-      std::string bytes;
+      const bool         compress;
+      std::uint64_t      offset = 0;
+      std::vector<Block> blocks;
     };
 
     // The point arrays (name, components) of both writers; the higher-order
@@ -287,50 +305,62 @@ namespace isoimpact
       std::vector<std::vector<double>> point_data;
     };
 
-    // The shape functions of one cell at its VTK node points: the value
-    // and gradient of each function's own component (the element is
-    // primitive), and the node coefficients of the position.
+    // The shape functions of one cell at its VTK node points. The element
+    // is a vector-valued FESystem of one scalar element: its values and
+    // gradients are stored per function of that element (half the bytes of
+    // one per vector-valued function), with the node coefficients of the
+    // position.
     struct CellShapes
     {
-      HigherOrderCell     vtk_cell;
-      std::vector<double> position_coefficients; // n x 2
-      std::vector<double> values;                // n x dofs per cell
-      std::vector<double> gradients;             // n x dofs per cell x 2
+      double *position_coefficients; // n x 2
+      double *values;                // n x scalar functions
+      double *gradients;             // n x scalar functions x 2
     };
 
-    CellShapes
-    cell_shapes(FEValues<2>                               &fe_values,
-                const Discretization<2>                   &disc,
-                const DoFHandler<2>::active_cell_iterator &cell)
+    void
+    fill_cell_shapes(FEValues<2>                               &fe_values,
+                     const Discretization<2>                   &disc,
+                     const DoFHandler<2>::active_cell_iterator &cell,
+                     HigherOrderCell                           &vtk_cell,
+                     const CellShapes                          &shapes)
     {
-      CellShapes shapes;
-      shapes.vtk_cell = disc.higher_order_cell(cell);
+      vtk_cell = disc.higher_order_cell(cell);
       fe_values.reinit(cell);
       const auto        &fe = fe_values.get_fe();
       const unsigned int n  = fe_values.n_quadrature_points;
       const unsigned int m  = fe.n_dofs_per_cell();
-      FullMatrix<double> positions(n, 2), coefficients(n, 2);
-      for (unsigned int k = 0; k < n; ++k)
-        for (unsigned int d = 0; d < 2; ++d)
-          positions(k, d) = fe_values.quadrature_point(k)[d];
-      if (shapes.vtk_cell.values_to_nodes.m() > 0)
-        shapes.vtk_cell.values_to_nodes.mmult(coefficients, positions);
+      const unsigned int mb = fe.base_element(0).n_dofs_per_cell();
+      if (vtk_cell.values_to_nodes.m() > 0)
+        {
+          FullMatrix<double> positions(n, 2), coefficients(n, 2);
+          for (unsigned int k = 0; k < n; ++k)
+            for (unsigned int d = 0; d < 2; ++d)
+              positions(k, d) = fe_values.quadrature_point(k)[d];
+          vtk_cell.values_to_nodes.mmult(coefficients, positions);
+          for (unsigned int k = 0; k < n; ++k)
+            for (unsigned int d = 0; d < 2; ++d)
+              shapes.position_coefficients[2 * k + d] = coefficients(k, d);
+        }
       else
-        coefficients = positions;
-      shapes.position_coefficients.assign(&coefficients(0, 0),
-                                          &coefficients(0, 0) + 2 * n);
-      shapes.values.resize(n * m);
-      shapes.gradients.resize(2 * n * m);
-      for (unsigned int k = 0; k < n; ++k)
-        for (unsigned int i = 0; i < m; ++i)
-          {
-            const unsigned int c     = fe.system_to_component_index(i).first;
-            shapes.values[k * m + i] = fe_values.shape_value_component(i, k, c);
-            const auto gradient      = fe_values.shape_grad_component(i, k, c);
-            shapes.gradients[2 * (k * m + i)]     = gradient[0];
-            shapes.gradients[2 * (k * m + i) + 1] = gradient[1];
-          }
-      return shapes;
+        for (unsigned int k = 0; k < n; ++k)
+          for (unsigned int d = 0; d < 2; ++d)
+            shapes.position_coefficients[2 * k + d] =
+              fe_values.quadrature_point(k)[d];
+      // The functions of component 0 are those of the scalar element.
+      for (unsigned int i = 0; i < m; ++i)
+        {
+          const auto [c, j] = fe.system_to_component_index(i);
+          if (c != 0)
+            continue;
+          for (unsigned int k = 0; k < n; ++k)
+            {
+              shapes.values[k * mb + j] =
+                fe_values.shape_value_component(i, k, 0);
+              const auto gradient = fe_values.shape_grad_component(i, k, 0);
+              shapes.gradients[2 * (k * mb + j)]     = gradient[0];
+              shapes.gradients[2 * (k * mb + j) + 1] = gradient[1];
+            }
+        }
     }
 
     std::unique_ptr<FEValues<2>>
@@ -348,31 +378,68 @@ namespace isoimpact
   // Kept from one write to the next, the shape data make a write cost a
   // few products per node instead of a mapping per cell; bodies whose
   // data would exceed max_cached_bytes are sampled through FEValues at
-  // every write instead.
+  // every write instead. The sampled pieces are kept too, two of them
+  // (a write fills one while the previous one is being written): a write
+  // reuses their memory instead of taking fresh pages.
   struct SolutionWriter::BodySampling
   {
     static constexpr std::size_t max_cached_bytes = std::size_t(64) << 20;
 
     explicit BodySampling(const Discretization<2> &disc)
     {
+      const auto &fe = disc.fe();
+      AssertThrow(fe.n_base_elements() == 1 &&
+                    fe.element_multiplicity(0) == fe.n_components(),
+                  ExcMessage("the ParaView output samples a vector-valued "
+                             "element made of one scalar element (" +
+                             fe.get_name() + " is not)"));
       const auto first          = disc.dof_handler().begin_active();
       degree                    = disc.higher_order_cell(first).degree;
-      const std::size_t n_nodes = (degree + 1) * (degree + 1);
+      n_nodes                   = (degree + 1) * (degree + 1);
+      n_functions               = fe.base_element(0).n_dofs_per_cell();
+      const std::size_t n_cells = disc.triangulation().n_active_cells();
       const std::size_t bytes_per_cell =
-        sizeof(double) * n_nodes *
-        (3 * disc.fe().n_dofs_per_cell() + 3 + n_nodes);
-      if (bytes_per_cell * disc.triangulation().n_active_cells() >
-          max_cached_bytes)
+        sizeof(double) * n_nodes * (3 * n_functions + 3 + n_nodes);
+      if (bytes_per_cell * n_cells > max_cached_bytes)
         return;
       const auto fe_values = node_fe_values(disc, degree);
-      cells.reserve(disc.triangulation().n_active_cells());
+      vtk_cells.resize(n_cells);
+      positions.resize(n_cells * n_nodes * 2);
+      values.resize(n_cells * n_nodes * n_functions);
+      gradients.resize(2 * values.size());
       for (const auto &cell : disc.dof_handler().active_cell_iterators())
-        cells.push_back(cell_shapes(*fe_values, disc, cell));
+        {
+          const std::size_t c = cell->active_cell_index();
+          fill_cell_shapes(*fe_values, disc, cell, vtk_cells[c], shapes(c));
+        }
     }
 
-    unsigned int degree = 0;
-    std::vector<CellShapes>
-      cells; // in the order of the active cells; empty: not cached
+    bool
+    cached() const
+    {
+      return !vtk_cells.empty();
+    }
+
+    // The shapes of a cell (cached()).
+    CellShapes
+    shapes(const std::size_t c) const
+    {
+      return {const_cast<double *>(&positions[c * n_nodes * 2]),
+              const_cast<double *>(&values[c * n_nodes * n_functions]),
+              const_cast<double *>(&gradients[2 * c * n_nodes * n_functions])};
+    }
+
+    unsigned int degree      = 0;
+    unsigned int n_nodes     = 0;
+    unsigned int n_functions = 0;
+    // In the order of the active cells; empty: not cached.
+    std::vector<HigherOrderCell> vtk_cells;
+    std::vector<double>          positions, values, gradients;
+
+    std::array<std::shared_ptr<HigherOrderPiece>, 2> pieces = {
+      {std::make_shared<HigherOrderPiece>(),
+       std::make_shared<HigherOrderPiece>()}};
+    unsigned int next_piece = 0;
   };
 
   namespace
@@ -383,64 +450,69 @@ namespace isoimpact
      * discontinuous); fields are sampled at the node points and turned into
      * node coefficients, so displacement, velocity and the geometry are
      * exact; the stresses interpolate the element's stresses at the node
-     * points.
+     * points. Fills `piece`, whose arrays keep their memory from one write
+     * to the next.
      */
-    HigherOrderPiece
+    void
     sample_higher_order_cells(const ElasticBody<2> &body,
                               const Vector<double> &contact_pressure,
                               const double          time,
-                              const SolutionWriter::BodySampling &sampling)
+                              const SolutionWriter::BodySampling &sampling,
+                              HigherOrderPiece                   &piece)
     {
       const auto     &disc = body.discretization();
       const DoFFields fields(body, contact_pressure);
       const auto &[displacement, velocity, pressure] = fields.vectors;
 
-      HigherOrderPiece piece;
       piece.time            = time;
       piece.degree          = sampling.degree;
-      const unsigned int n  = (piece.degree + 1) * (piece.degree + 1);
+      piece.vtk_type        = 0;
+      const unsigned int n  = sampling.n_nodes;
+      const unsigned int mb = sampling.n_functions;
       const auto        &fe = disc.fe();
       const unsigned int m  = fe.n_dofs_per_cell();
       // Not cached: the shapes of each cell through FEValues.
       const auto fe_values =
-        sampling.cells.empty() ? node_fe_values(disc, piece.degree) : nullptr;
-      std::vector<unsigned int> component(m);
+        sampling.cached() ? nullptr : node_fe_values(disc, piece.degree);
+      std::vector<double> scratch(fe_values ? n * (2 + 3 * mb) : 0);
+      HigherOrderCell     uncached_cell;
+      const CellShapes    uncached{scratch.data(),
+                                scratch.data() + 2 * n,
+                                scratch.data() + 2 * n + n * mb};
+      // The unknowns of a cell as (component, scalar function).
+      std::vector<std::pair<unsigned int, unsigned int>> component_and_index(m);
       for (unsigned int i = 0; i < m; ++i)
-        component[i] = fe.system_to_component_index(i).first;
+        component_and_index[i] = fe.system_to_component_index(i);
 
       // Several MPI ranks: this rank's cells (UnknownExchange::owns_cell).
       const UnknownExchange &exchange = body.exchange();
       piece.n_cells                   = 0;
       for (unsigned int c = 0; c < disc.triangulation().n_active_cells(); ++c)
         piece.n_cells += exchange.owns_cell(c);
-      auto &point_data = piece.point_data;
-      auto &points     = piece.points;
-      point_data.resize(point_arrays(true).size());
-      points.reserve(3 * n * piece.n_cells);
-      for (auto &data : point_data)
-        data.reserve(3 * n * piece.n_cells);
+      const std::size_t n_points = std::size_t(n) * piece.n_cells;
+      piece.points.resize(3 * n_points);
+      piece.point_data.resize(point_arrays(true).size());
+      for (unsigned int a = 0; a < piece.point_data.size(); ++a)
+        piece.point_data[a].resize((a < 2 ? 3 : 1) * n_points);
       // Sampled values (n x components) of: u, v, stresses, contact
       // pressure.
       const unsigned int pressure_column = 4 + stress_names.size();
       FullMatrix<double> samples(n, pressure_column + 1);
       FullMatrix<double> coefficients(n, samples.n());
       std::vector<types::global_dof_index> dof_indices(m);
-      std::vector<double>                  u_local(m), v_local(m), p_local(m);
-      CellShapes                           scratch;
-      unsigned int                         index = 0;
+      // Per component and scalar function: u, v; the pressure (component 0).
+      std::vector<double> u_local(2 * mb), v_local(2 * mb), p_local(mb);
+      std::size_t         point = 0;
       for (const auto &cell : disc.dof_handler().active_cell_iterators())
         {
-          if (!exchange.owns_cell(cell->active_cell_index()))
-            {
-              ++index;
-              continue;
-            }
+          const std::size_t c = cell->active_cell_index();
+          if (!exchange.owns_cell(c))
+            continue;
           if (fe_values)
-            scratch = cell_shapes(*fe_values, disc, cell);
-          const CellShapes &shapes =
-            fe_values ? scratch : sampling.cells[index];
-          ++index;
-          const HigherOrderCell &vtk_cell = shapes.vtk_cell;
+            fill_cell_shapes(*fe_values, disc, cell, uncached_cell, uncached);
+          const CellShapes shapes = fe_values ? uncached : sampling.shapes(c);
+          const HigherOrderCell &vtk_cell =
+            fe_values ? uncached_cell : sampling.vtk_cells[c];
           AssertThrow(vtk_cell.degree == piece.degree,
                       ExcMessage("cells of different degrees"));
           if (piece.vtk_type == 0)
@@ -448,27 +520,30 @@ namespace isoimpact
           cell->get_dof_indices(dof_indices);
           for (unsigned int i = 0; i < m; ++i)
             {
-              u_local[i] = displacement(dof_indices[i]);
-              v_local[i] = velocity(dof_indices[i]);
-              p_local[i] = (component[i] == 0) ? pressure(dof_indices[i]) : 0.;
+              const auto [component, j]   = component_and_index[i];
+              u_local[component * mb + j] = displacement(dof_indices[i]);
+              v_local[component * mb + j] = velocity(dof_indices[i]);
+              if (component == 0)
+                p_local[j] = pressure(dof_indices[i]);
             }
           for (unsigned int k = 0; k < n; ++k)
             {
-              Tensor<1, 2> u, v;
-              Tensor<2, 2> grad_u;
-              double       p = 0.;
-              for (unsigned int i = 0; i < m; ++i)
-                {
-                  const unsigned int c     = component[i];
-                  const double       value = shapes.values[k * m + i];
-                  u[c] += value * u_local[i];
-                  v[c] += value * v_local[i];
-                  p += value * p_local[i];
-                  grad_u[c][0] +=
-                    shapes.gradients[2 * (k * m + i)] * u_local[i];
-                  grad_u[c][1] +=
-                    shapes.gradients[2 * (k * m + i) + 1] * u_local[i];
-                }
+              const double *const values    = shapes.values + k * mb;
+              const double *const gradients = shapes.gradients + 2 * k * mb;
+              Tensor<1, 2>        u, v;
+              Tensor<2, 2>        grad_u;
+              double              p = 0.;
+              for (unsigned int c = 0; c < 2; ++c)
+                for (unsigned int j = 0; j < mb; ++j)
+                  {
+                    const double value = values[j];
+                    u[c] += value * u_local[c * mb + j];
+                    v[c] += value * v_local[c * mb + j];
+                    grad_u[c][0] += gradients[2 * j] * u_local[c * mb + j];
+                    grad_u[c][1] += gradients[2 * j + 1] * u_local[c * mb + j];
+                  }
+              for (unsigned int j = 0; j < mb; ++j)
+                p += values[j] * p_local[j];
               const auto sigma = stresses(body.material(), grad_u);
               for (unsigned int d = 0; d < 2; ++d)
                 {
@@ -479,28 +554,39 @@ namespace isoimpact
                 samples(k, 4 + s) = sigma[s];
               samples(k, pressure_column) = p;
             }
-          if (vtk_cell.values_to_nodes.m() > 0)
-            vtk_cell.values_to_nodes.mmult(coefficients, samples);
-          else
-            coefficients = samples;
-          for (unsigned int j = 0; j < n; ++j)
+          const bool identity = vtk_cell.values_to_nodes.m() == 0;
+          // (n x n) times (n x 10): a loop, BLAS's call costs more.
+          if (!identity)
+            for (unsigned int i = 0; i < n; ++i)
+              for (unsigned int column = 0; column < samples.n(); ++column)
+                {
+                  double sum = 0.;
+                  for (unsigned int k = 0; k < n; ++k)
+                    sum += vtk_cell.values_to_nodes(i, k) * samples(k, column);
+                  coefficients(i, column) = sum;
+                }
+          const FullMatrix<double> &node_values =
+            identity ? samples : coefficients;
+          for (unsigned int j = 0; j < n; ++j, ++point)
             {
-              points.insert(points.end(),
-                            {shapes.position_coefficients[2 * j],
-                             shapes.position_coefficients[2 * j + 1],
-                             0.});
+              for (unsigned int d = 0; d < 2; ++d)
+                {
+                  piece.points[3 * point + d] =
+                    shapes.position_coefficients[2 * j + d];
+                  for (unsigned int a = 0; a < 2; ++a)
+                    piece.point_data[a][3 * point + d] =
+                      node_values(j, 2 * a + d);
+                }
+              piece.points[3 * point + 2] = 0.;
               for (unsigned int a = 0; a < 2; ++a)
-                point_data[a].insert(point_data[a].end(),
-                                     {coefficients(j, 2 * a),
-                                      coefficients(j, 1 + 2 * a),
-                                      0.});
+                piece.point_data[a][3 * point + 2] = 0.;
               // stresses and pressure, then the weights
               for (unsigned int s = 0; s <= stress_names.size(); ++s)
-                point_data[2 + s].push_back(coefficients(j, 4 + s));
-              point_data.back().push_back(vtk_cell.weights[j]);
+                piece.point_data[2 + s][point] = node_values(j, 4 + s);
+              piece.point_data.back()[point] = vtk_cell.weights[j];
             }
         }
-      return piece;
+      AssertDimension(point, n_points);
     }
 
     // The VTU file of a sampled piece (appended raw data, see
@@ -510,13 +596,14 @@ namespace isoimpact
                            const HigherOrderPiece &piece,
                            const bool              compress)
     {
-      const unsigned int n_cells = piece.n_cells;
-      const unsigned int n       = piece.points.size() / 3 / n_cells;
-      const auto         arrays  = point_arrays(true);
-      AppendedArrays     data(compress);
-      std::ostringstream xml;
+      const unsigned int        n_cells = piece.n_cells;
+      const unsigned int        n       = piece.points.size() / 3 / n_cells;
+      const auto                arrays  = point_arrays(true);
+      AppendedArrays            data(compress);
+      std::ostringstream        xml;
+      const std::vector<double> time{piece.time};
       xml << "<FieldData>\n"
-          << data.add("TIME", 1, std::vector<double>{piece.time})
+          << data.add("TIME", 1, time)
           << "</FieldData>\n<Piece NumberOfPoints=\"" << piece.points.size() / 3
           << "\" NumberOfCells=\"" << n_cells << "\">\n<Points>\n"
           << data.add("", 3, piece.points) << "</Points>\n<Cells>\n";
@@ -525,11 +612,9 @@ namespace isoimpact
         connectivity[i] = i;
       for (unsigned int c = 0; c < n_cells; ++c)
         offsets[c] = (c + 1) * n;
+      const std::vector<std::uint8_t> types(n_cells, piece.vtk_type);
       xml << data.add("connectivity", 1, connectivity)
-          << data.add("offsets", 1, offsets)
-          << data.add("types",
-                      1,
-                      std::vector<std::uint8_t>(n_cells, piece.vtk_type))
+          << data.add("offsets", 1, offsets) << data.add("types", 1, types)
           << "</Cells>\n<PointData RationalWeights=\"RationalWeights\">\n";
       for (unsigned int a = 0; a < arrays.size(); ++a)
         xml << data.add(arrays[a].first, arrays[a].second, piece.point_data[a]);
@@ -736,23 +821,29 @@ namespace isoimpact
     // all but the last in tasks, the last here.
     if (samplings.size() != bodies.size())
       samplings.assign(bodies.size(), nullptr);
-    std::vector<std::future<HigherOrderPiece>> sampling;
+    // Each body fills the piece it did not fill last time: the other one
+    // may still be being written until finish() below.
+    std::vector<std::shared_ptr<const HigherOrderPiece>> samples(bodies.size());
+    std::vector<std::future<void>>                       sampling;
     const auto sample = [&](const unsigned int b) {
       if (!samplings[b])
         samplings[b] =
           std::make_shared<BodySampling>(bodies[b]->discretization());
-      return sample_higher_order_cells(*bodies[b],
-                                       contact_pressures[b],
-                                       time,
-                                       *samplings[b]);
+      BodySampling &body_sampling = *samplings[b];
+      const auto   &piece      = body_sampling.pieces[body_sampling.next_piece];
+      body_sampling.next_piece = 1 - body_sampling.next_piece;
+      sample_higher_order_cells(*bodies[b],
+                                contact_pressures[b],
+                                time,
+                                body_sampling,
+                                *piece);
+      samples[b] = piece;
     };
     for (unsigned int b = 0; b + 1 < bodies.size(); ++b)
       sampling.push_back(std::async(std::launch::async, sample, b));
-    HigherOrderPiece              last = sample(bodies.size() - 1);
-    std::vector<HigherOrderPiece> samples;
-    for (auto &piece : sampling)
-      samples.push_back(piece.get());
-    samples.push_back(std::move(last));
+    sample(bodies.size() - 1);
+    for (auto &task : sampling)
+      task.get();
     finish();
     pending = std::async(
       std::launch::async,
@@ -765,7 +856,7 @@ namespace isoimpact
           write_by_rename(directory + "/" + pieces[b], [&](std::ostream &out) {
             try
               {
-                write_higher_order_vtu(out, samples[b], compress);
+                write_higher_order_vtu(out, *samples[b], compress);
               }
             catch (const ExceptionBase &)
               {
@@ -849,7 +940,6 @@ namespace isoimpact
     if (with_boundary_solve)
       out << ",boundary_solve_work";
     out << '\n';
-    rows << std::setprecision(10);
     flush();
   }
 
@@ -870,9 +960,9 @@ namespace isoimpact
   void
   HistoryWriter::flush()
   {
-    out << rows.str();
+    out << rows;
     out.flush();
-    rows.str("");
+    rows.clear();
     if (!out)
       {
         // Cut back to the last complete row: the file stays readable.
@@ -895,27 +985,54 @@ namespace isoimpact
                        const EnergyBalance &energy,
                        const unsigned int   boundary_solve_work)
   {
+    // std::to_chars at 10 significant digits writes what an ostream with
+    // setprecision(10) writes (printf's %.10g), without its locale and
+    // stream machinery.
+    const auto add = [this](const double value) {
+      char       digits[32];
+      const auto end = std::to_chars(digits,
+                                     digits + sizeof(digits),
+                                     value,
+                                     std::chars_format::general,
+                                     10)
+                         .ptr;
+      rows.append(digits, end);
+    };
     const double factor = scene.symmetry_factor;
-    rows << time << ',' << contact_force << ',' << max_pressure << ','
-         << max_gauss_point_pressure << ',' << factor * energy.kinetic << ','
-         << factor * energy.strain << ',' << factor * energy.contact << ','
-         << factor * energy.contact_damping << ',';
+    for (const double value : {time,
+                               contact_force,
+                               max_pressure,
+                               max_gauss_point_pressure,
+                               factor * energy.kinetic,
+                               factor * energy.strain,
+                               factor * energy.contact,
+                               factor * energy.contact_damping})
+      {
+        add(value);
+        rows += ',';
+      }
     if (bipenalty)
-      rows << factor * energy.bipenalty_kinetic << ','
-           << factor * energy.bipenalty_switching << ',';
-    rows << factor * energy.total();
+      for (const double value : {factor * energy.bipenalty_kinetic,
+                                 factor * energy.bipenalty_switching})
+        {
+          add(value);
+          rows += ',';
+        }
+    add(factor * energy.total());
     if (scene.reference)
       {
         // One solve of the reference per row: its pressure from its force.
         const double force = scene.reference->contact_force(time);
-        rows << ',' << force << ','
-             << scene.reference->peak_pressure_of_force(force);
+        rows += ',';
+        add(force);
+        rows += ',';
+        add(scene.reference->peak_pressure_of_force(force));
       }
     if (with_boundary_solve)
-      rows << ',' << boundary_solve_work;
-    rows << '\n';
+      rows += ',' + std::to_string(boundary_solve_work);
+    rows += '\n';
     // Whole rows only reach the file: a killed run leaves complete ones.
-    if (rows.tellp() > (1 << 16))
+    if (rows.size() > (1 << 16))
       flush();
   }
 

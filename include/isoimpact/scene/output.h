@@ -76,14 +76,14 @@ namespace isoimpact
 
   private:
     // Per body, made at its first higher-order write.
-    std::vector<std::shared_ptr<const BodySampling>> samplings;
-    std::future<void>                                pending;
-    std::string                                      directory;
-    unsigned int                                     n_subdivisions;
-    bool                                             higher_order;
-    bool                                             compress;
-    unsigned int                                     counter = 0;
-    std::vector<std::pair<double, std::string>>      times_and_names;
+    std::vector<std::shared_ptr<BodySampling>>  samplings;
+    std::future<void>                           pending;
+    std::string                                 directory;
+    unsigned int                                n_subdivisions;
+    bool                                        higher_order;
+    bool                                        compress;
+    unsigned int                                counter = 0;
+    std::vector<std::pair<double, std::string>> times_and_names;
   };
 
   /**
@@ -130,12 +130,12 @@ namespace isoimpact
 
   private:
     // Contact/Mass redistribution: the column boundary_solve_work.
-    bool               with_boundary_solve = false;
-    const Scene       &scene;
-    const std::string  path;
-    std::ofstream      out;
-    std::ostringstream rows;
-    std::uintmax_t     written = 0; // bytes of complete rows in the file
+    bool              with_boundary_solve = false;
+    const Scene      &scene;
+    const std::string path;
+    std::ofstream     out;
+    std::string       rows;        // complete rows not yet in the file
+    std::uintmax_t    written = 0; // bytes of complete rows in the file
     // Contact/Bipenalty: two more energy columns.
     bool bipenalty = false;
   };
