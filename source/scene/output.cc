@@ -310,19 +310,22 @@ namespace isoimpact
     // gradients are stored per function of that element (half the bytes of
     // one per vector-valued function), with the node coefficients of the
     // position.
-    struct CellShapes
+    template <typename Number>
+    struct CellShapesOf
     {
-      double *position_coefficients; // n x 2
-      double *values;                // n x scalar functions
-      double *gradients;             // n x scalar functions x 2
+      Number *position_coefficients; // n x 2
+      Number *values;                // n x scalar functions
+      Number *gradients;             // n x scalar functions x 2
     };
+    using CellShapes       = CellShapesOf<const double>;
+    using CellShapesToFill = CellShapesOf<double>;
 
     void
     fill_cell_shapes(FEValues<2>                               &fe_values,
                      const Discretization<2>                   &disc,
                      const DoFHandler<2>::active_cell_iterator &cell,
                      HigherOrderCell                           &vtk_cell,
-                     const CellShapes                          &shapes)
+                     const CellShapesToFill                    &shapes)
     {
       vtk_cell = disc.higher_order_cell(cell);
       fe_values.reinit(cell);
@@ -410,7 +413,13 @@ namespace isoimpact
       for (const auto &cell : disc.dof_handler().active_cell_iterators())
         {
           const std::size_t c = cell->active_cell_index();
-          fill_cell_shapes(*fe_values, disc, cell, vtk_cells[c], shapes(c));
+          fill_cell_shapes(*fe_values,
+                           disc,
+                           cell,
+                           vtk_cells[c],
+                           {&positions[c * n_nodes * 2],
+                            &values[c * n_nodes * n_functions],
+                            &gradients[2 * c * n_nodes * n_functions]});
         }
     }
 
@@ -424,9 +433,9 @@ namespace isoimpact
     CellShapes
     shapes(const std::size_t c) const
     {
-      return {const_cast<double *>(&positions[c * n_nodes * 2]),
-              const_cast<double *>(&values[c * n_nodes * n_functions]),
-              const_cast<double *>(&gradients[2 * c * n_nodes * n_functions])};
+      return {&positions[c * n_nodes * 2],
+              &values[c * n_nodes * n_functions],
+              &gradients[2 * c * n_nodes * n_functions]};
     }
 
     unsigned int degree      = 0;
@@ -474,11 +483,11 @@ namespace isoimpact
       // Not cached: the shapes of each cell through FEValues.
       const auto fe_values =
         sampling.cached() ? nullptr : node_fe_values(disc, piece.degree);
-      std::vector<double> scratch(fe_values ? n * (2 + 3 * mb) : 0);
-      HigherOrderCell     uncached_cell;
-      const CellShapes    uncached{scratch.data(),
-                                scratch.data() + 2 * n,
-                                scratch.data() + 2 * n + n * mb};
+      std::vector<double>    scratch(fe_values ? n * (2 + 3 * mb) : 0);
+      HigherOrderCell        uncached_cell;
+      const CellShapesToFill uncached{scratch.data(),
+                                      scratch.data() + 2 * n,
+                                      scratch.data() + 2 * n + n * mb};
       // The unknowns of a cell as (component, scalar function).
       std::vector<std::pair<unsigned int, unsigned int>> component_and_index(m);
       for (unsigned int i = 0; i < m; ++i)
@@ -491,9 +500,10 @@ namespace isoimpact
         piece.n_cells += exchange.owns_cell(c);
       const std::size_t n_points = std::size_t(n) * piece.n_cells;
       piece.points.resize(3 * n_points);
-      piece.point_data.resize(point_arrays(true).size());
-      for (unsigned int a = 0; a < piece.point_data.size(); ++a)
-        piece.point_data[a].resize((a < 2 ? 3 : 1) * n_points);
+      const auto arrays = point_arrays(true);
+      piece.point_data.resize(arrays.size());
+      for (unsigned int a = 0; a < arrays.size(); ++a)
+        piece.point_data[a].resize(arrays[a].second * n_points);
       // Sampled values (n x components) of: u, v, stresses, contact
       // pressure.
       const unsigned int pressure_column = 4 + stress_names.size();
@@ -510,7 +520,11 @@ namespace isoimpact
             continue;
           if (fe_values)
             fill_cell_shapes(*fe_values, disc, cell, uncached_cell, uncached);
-          const CellShapes shapes = fe_values ? uncached : sampling.shapes(c);
+          const CellShapes       shapes = fe_values ?
+                                            CellShapes{uncached.position_coefficients,
+                                                 uncached.values,
+                                                 uncached.gradients} :
+                                            sampling.shapes(c);
           const HigherOrderCell &vtk_cell =
             fe_values ? uncached_cell : sampling.vtk_cells[c];
           AssertThrow(vtk_cell.degree == piece.degree,
