@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 using namespace dealii;
 
@@ -36,6 +37,35 @@ namespace isoimpact
           b_1            = b;
         }
       return x * b_1 - b_2 + c[0];
+    }
+
+    // The root of an increasing function in [lower, upper] by Newton from
+    // `x`, safeguarded by bisection; residual_and_slope(x) returns both.
+    // Stops when a step or the bracket is at most `tolerance`.
+    template <typename Function>
+    double
+    safeguarded_newton(double          lower,
+                       double          upper,
+                       double          x,
+                       const double    tolerance,
+                       const Function &residual_and_slope)
+    {
+      for (unsigned int iteration = 0; iteration < 100; ++iteration)
+        {
+          const auto [residual, slope] = residual_and_slope(x);
+          if (residual < 0.)
+            lower = x;
+          else
+            upper = x;
+          double x_new = (slope > 0.) ? x - residual / slope : lower - 1.;
+          if (!(x_new >= lower && x_new <= upper))
+            x_new = 0.5 * (lower + upper);
+          const double step = std::abs(x_new - x);
+          x                 = x_new;
+          if (step <= tolerance || upper - lower <= tolerance)
+            break;
+        }
+      return x;
     }
 
     const dealii::Quadrature<1> &
@@ -336,30 +366,20 @@ namespace isoimpact
     const std::vector<double> &times = time_nodes[phase];
     const std::vector<double> &nodes = parameter_nodes[phase];
     // Newton on t_k + integral_{s_k}^s dt/ds = time within [s_k, s_k+1].
-    double lower = nodes[k];
-    double upper = nodes[k + 1];
-    double s =
-      lower +
-      (upper - lower) *
+    const double start =
+      nodes[k] +
+      (nodes[k + 1] - nodes[k]) *
         std::clamp((time - times[k]) / (times[k + 1] - times[k]), 0., 1.);
-    for (unsigned int iteration = 0; iteration < 100; ++iteration)
-      {
-        const double residual =
-          times[k] + time_between(phase, nodes[k], s) - time;
-        if (residual < 0.)
-          lower = s;
-        else
-          upper = s;
-        double s_new = s - residual / time_integrand(phase, s);
-        if (!(s_new >= lower && s_new <= upper))
-          s_new = 0.5 * (lower + upper);
-        const double step = std::abs(s_new - s);
-        s                 = s_new;
-        if (step <= 1e-15 * (nodes[k + 1] - nodes[k]) ||
-            upper - lower <= 1e-15 * (nodes[k + 1] - nodes[k]))
-          break;
-      }
-    return s;
+    return safeguarded_newton(nodes[k],
+                              nodes[k + 1],
+                              start,
+                              1e-15 * (nodes[k + 1] - nodes[k]),
+                              [&](const double s) {
+                                return std::make_pair(
+                                  times[k] + time_between(phase, nodes[k], s) -
+                                    time,
+                                  time_integrand(phase, s));
+                              });
   }
 
 
@@ -377,28 +397,15 @@ namespace isoimpact
       &slope_coefficients_of_time[phase][k * (chebyshev_degree + 1)];
     // Newton on the Chebyshev series of t(x), x in [-1, 1] spanning
     // [s_k, s_k+1], safeguarded by bisection (t increases with x).
-    double lower = -1., upper = 1.;
-    double x =
+    const double start =
       -1. +
       2. * std::clamp((time - times[k]) / (times[k + 1] - times[k]), 0., 1.);
-    for (unsigned int iteration = 0; iteration < 100; ++iteration)
-      {
-        const double residual =
-          chebyshev_sum(value_coefficients, chebyshev_degree, x) - time;
-        if (residual < 0.)
-          lower = x;
-        else
-          upper = x;
-        const double slope =
-          chebyshev_sum(slope_coefficients, chebyshev_degree - 1, x);
-        double x_new = (slope > 0.) ? x - residual / slope : lower - 1.;
-        if (!(x_new >= lower && x_new <= upper))
-          x_new = 0.5 * (lower + upper);
-        const double step = std::abs(x_new - x);
-        x                 = x_new;
-        if (step <= 2e-15 || upper - lower <= 2e-15)
-          break;
-      }
+    const double x =
+      safeguarded_newton(-1., 1., start, 2e-15, [&](const double x) {
+        return std::make_pair(
+          chebyshev_sum(value_coefficients, chebyshev_degree, x) - time,
+          chebyshev_sum(slope_coefficients, chebyshev_degree - 1, x));
+      });
     return nodes[k] + 0.5 * (x + 1.) * (nodes[k + 1] - nodes[k]);
   }
 
