@@ -1009,8 +1009,9 @@ namespace isoimpact
   template <int dim>
   double
   ElasticBody<dim>::estimate_critical_time_step(
-    const unsigned int          n_iterations,
-    const SparseMatrix<double> *additional_stiffness) const
+    const unsigned int n_iterations,
+    const std::function<void(Vector<double> &, const Vector<double> &)>
+      &add_additional) const
   {
     // Several ranks: each holds its rows of K, the rest of K x comes from
     // their owners; every rank then iterates the same whole vectors.
@@ -1018,10 +1019,11 @@ namespace isoimpact
                                      const Vector<double> &x) {
       stiffness.vmult(y, x);
       row_exchange.gather(y);
-      if (additional_stiffness)
-        additional_stiffness->vmult_add(y, x);
+      if (add_additional)
+        add_additional(y, x);
     };
-    // Power iteration on M^{-1} K in the M inner product.
+    // Power iteration on M^{-1} K in the M inner product; two vectors (y
+    // holds M x before it holds K x).
     Vector<double>                         x(n_dofs()), y(n_dofs());
     std::mt19937                           generator(42);
     std::uniform_real_distribution<double> uniform(-1., 1.);
@@ -1035,9 +1037,8 @@ namespace isoimpact
         body_constraints.set_zero(y);
         solve_mass(x, y);
         body_constraints.set_zero(x);
-        Vector<double> mx(n_dofs());
-        mass_vmult(mx, x);
-        const double norm = std::sqrt(mx * x);
+        mass_vmult(y, x);
+        const double norm = std::sqrt(y * x);
         stiffness_vmult(y, x);
         lambda = (y * x) / (norm * norm);
         x /= norm;

@@ -1,7 +1,6 @@
 // Layer 4: stable time step bounds and estimate.
 #include <deal.II/base/quadrature_lib.h>
 
-#include <deal.II/lac/dynamic_sparsity_pattern.h>
 
 #include <isoimpact/mechanics/stable_time_step.h>
 
@@ -106,6 +105,114 @@ namespace isoimpact
                   ExcMessage("element eigenvalue problem failed"));
       return solver.eigenvalues().maxCoeff();
     }
+
+    // The springs' matrices C^T K_s C (C the constraints: rows and columns
+    // of the unconstrained unknowns only) on the surface's rows alone, as
+    // deal.II's SparseMatrix would hold them (each row's diagonal first,
+    // then its other columns ascending; each entry summed over the
+    // segments in their order), but without storing the empty rows of the
+    // other unknowns: `linearised` the linearised penalty, `bound` its
+    // upper bound.
+    struct SurfaceSpringRows
+    {
+      struct Entry
+      {
+        types::global_dof_index column;
+        double                  linearised, bound;
+      };
+      std::map<types::global_dof_index, std::vector<Entry>> rows;
+
+      // Adds a segment's two matrices on its unknowns `dofs`.
+      void
+      add(const std::vector<types::global_dof_index> &dofs,
+          const FullMatrix<double>                   &linearised,
+          const FullMatrix<double>                   &bound,
+          const AffineConstraints<double>            &constraints)
+      {
+        // Each unknown as a combination of unconstrained ones.
+        std::vector<std::vector<std::pair<types::global_dof_index, double>>>
+          targets(dofs.size());
+        for (unsigned int a = 0; a < dofs.size(); ++a)
+          if (!constraints.is_constrained(dofs[a]))
+            targets[a] = {{dofs[a], 1.}};
+          else
+            targets[a] = *constraints.get_constraint_entries(dofs[a]);
+        for (unsigned int a = 0; a < dofs.size(); ++a)
+          for (const auto &[row, row_weight] : targets[a])
+            for (unsigned int b = 0; b < dofs.size(); ++b)
+              for (const auto &[column, column_weight] : targets[b])
+                {
+                  Entry       &entry  = find_or_insert(row, column);
+                  const double weight = row_weight * column_weight;
+                  entry.linearised += weight * linearised(a, b);
+                  entry.bound += weight * bound(a, b);
+                }
+      }
+
+      // The row of `row`, nullptr if it has no springs.
+      const std::vector<Entry> *
+      row(const types::global_dof_index row) const
+      {
+        const auto found = rows.find(row);
+        return found == rows.end() ? nullptr : &found->second;
+      }
+
+      // y += K_s x (the linearised penalty), each row's products added to
+      // y in the row's order, as SparseMatrix::vmult_add adds them.
+      void
+      vmult_add(Vector<double> &y, const Vector<double> &x) const
+      {
+        for (const auto &[row, entries] : rows)
+          {
+            double sum = y(row);
+            for (const Entry &entry : entries)
+              sum += entry.linearised * x(entry.column);
+            y(row) = sum;
+          }
+      }
+
+      // The bound's entry (row, column) of a row's entries; 0 if absent.
+      static double
+      bound(const std::vector<Entry>     &entries,
+            const types::global_dof_index row,
+            const types::global_dof_index column)
+      {
+        if (column == row)
+          return entries.front().bound;
+        const auto position = std::lower_bound(entries.begin() + 1,
+                                               entries.end(),
+                                               column,
+                                               by_column);
+        return position != entries.end() && position->column == column ?
+                 position->bound :
+                 0.;
+      }
+
+    private:
+      static bool
+      by_column(const Entry &entry, const types::global_dof_index column)
+      {
+        return entry.column < column;
+      }
+
+      Entry &
+      find_or_insert(const types::global_dof_index row,
+                     const types::global_dof_index column)
+      {
+        auto &entries = rows[row];
+        if (entries.empty())
+          entries.push_back({row, 0., 0.});
+        if (column == row)
+          return entries.front();
+        const auto position = std::lower_bound(entries.begin() + 1,
+                                               entries.end(),
+                                               column,
+                                               by_column);
+        if (position != entries.end() && position->column == column)
+          return *position;
+        return *entries.insert(position, {column, 0., 0.});
+      }
+    };
   } // namespace
 
   template <int dim>
@@ -125,35 +232,30 @@ namespace isoimpact
       FullMatrix<double>                   bound;
     };
     std::vector<SegmentSpring> segment_springs;
-    // Their own pattern, the surface's couplings alone: a copy of the
-    // stiffness pattern would hold one value per entry of K, twice.
-    DynamicSparsityPattern surface_couplings(body.n_dofs());
-    for (const auto &spring : springs)
-      for (const auto &segment : *spring.segments)
-        constraints.add_entries_local_to_global(segment_dofs(segment),
-                                                surface_couplings);
-    SparsityPattern spring_pattern;
-    spring_pattern.copy_from(surface_couplings);
-    SparseMatrix<double> spring_matrix(spring_pattern);
-    SparseMatrix<double> spring_bound_matrix(spring_pattern);
+    // Their assembled rows, the surface's alone: a matrix of K's size would
+    // hold a row start, a diagonal entry and its value for every unknown.
+    SurfaceSpringRows spring_rows;
     for (const auto &spring : springs)
       for (const auto &segment : *spring.segments)
         {
           const auto dofs = segment_dofs(segment);
-          constraints.distribute_local_to_global(
-            segment_spring_matrix(segment, spring.stiffness, true),
-            dofs,
-            spring_matrix);
           segment_springs.push_back(
             {dofs, segment_spring_matrix(segment, spring.stiffness, false)});
-          constraints.distribute_local_to_global(segment_springs.back().bound,
-                                                 dofs,
-                                                 spring_bound_matrix);
+          spring_rows.add(dofs,
+                          segment_spring_matrix(segment,
+                                                spring.stiffness,
+                                                true),
+                          segment_springs.back().bound,
+                          constraints);
         }
 
     StableTimeStep result;
     result.power_estimate =
-      body.estimate_critical_time_step(n_power_iterations, &spring_matrix);
+      body.estimate_critical_time_step(n_power_iterations,
+                                       [&spring_rows](Vector<double>       &y,
+                                                      const Vector<double> &x) {
+                                         spring_rows.vmult_add(y, x);
+                                       });
 
     // Element by element: every segment joins the first element that holds
     // all its unknowns. Unknowns fixed to zero are left out (a subspace);
@@ -257,15 +359,14 @@ namespace isoimpact
             // The springs' couplings lie inside K's pattern (segments lie
             // in cells); only the surface's rows have them.
             double     row_sum = 0.;
-            const bool springs_in_row =
-              spring_pattern.row_length(i) > 1 ||
-              spring_bound_matrix.diag_element(i) != 0.;
+            const auto springs = spring_rows.row(i);
             for (auto entry = stiffness.begin(i); entry != stiffness.end(i);
                  ++entry)
               row_sum += std::abs(
-                entry->value() + (springs_in_row ?
-                                    spring_bound_matrix.el(i, entry->column()) :
-                                    0.));
+                entry->value() +
+                (springs ?
+                   SurfaceSpringRows::bound(*springs, i, entry->column()) :
+                   0.));
             lambda = std::max(lambda, row_sum / mass(i));
           }
         result.gershgorin_bound =

@@ -11,6 +11,7 @@
 #include <isoimpact/mechanics/mass_solver.h>
 #include <isoimpact/mechanics/paired_rows.h>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -182,15 +183,17 @@ namespace isoimpact
     /**
      * Estimate of the stable step of central differences, 2 / omega_max,
      * omega_max^2 = lambda_max(M^{-1} (K + K_c)) by power iteration, K_c an
-     * optional additional stiffness (contact springs) on the sparsity
-     * pattern of K. Power iteration approaches lambda_max from below,
+     * optional additional stiffness (contact springs): add_additional(y, x)
+     * adds K_c x to y. Power iteration approaches lambda_max from below,
      * so the estimate approaches the critical step from above (4e-4 relative
      * after 200 iterations in tests/free_flight.cc): keep a margin.
      */
     double
     estimate_critical_time_step(
-      const unsigned int                  n_iterations         = 200,
-      const dealii::SparseMatrix<double> *additional_stiffness = nullptr) const;
+      const unsigned int n_iterations = 200,
+      const std::function<void(dealii::Vector<double> &,
+                               const dealii::Vector<double> &)>
+        &add_additional = {}) const;
     /**
      * Consistent mass only: solve M a = f by Jacobi-preconditioned CG to
      * relative_tolerance instead of the Cholesky factors (the reference of
