@@ -132,29 +132,71 @@ namespace isoimpact
     // reads the same copy from its end to its start.
     // CHOLMOD's block also stores the upper triangle, and its columns are
     // read with gaps; this copy has neither.
+    // A row below a diagonal block whose entries are all negligible,
+    // |L_rj| < negligible * sqrt(L_rr L_jj) for every column j of the
+    // supernode, is left out (with its row number): the factor of a mass
+    // matrix decays with the distance between the unknowns, and the rows
+    // of distant separators hold only such entries.
     struct PackedValues
     {
       // The forward substitution forms its products for this many rows at
       // once.
-      static constexpr int rows_per_group = 4;
-
+      static constexpr int     rows_per_group = 4;
       std::vector<double>      values;
       std::vector<std::size_t> offset; // per supernode, and the end
+      // The rows kept below each supernode's diagonal block:
+      // rows[row_offset[s]] to rows[row_offset[s + 1]].
+      std::vector<int>         rows;
+      std::vector<std::size_t> row_offset;
 
       void
-      pack(const cholmod_factor &L)
+      pack(const cholmod_factor &L, const double negligible)
       {
         const auto *super = static_cast<const int *>(L.super);
         const auto *pi    = static_cast<const int *>(L.pi);
         const auto *px    = static_cast<const int *>(L.px);
+        const auto *Ls    = static_cast<const int *>(L.s);
         const auto *x     = static_cast<const double *>(L.x);
+        // Entry (row r, column j) of supernode s's block is
+        // x[px[s] + j * n_rows + r].
+        std::vector<double> diagonal(L.n);
+        for (std::size_t s = 0; s < L.nsuper; ++s)
+          {
+            const int n_rows = pi[s + 1] - pi[s];
+            for (int j = 0; j < super[s + 1] - super[s]; ++j)
+              diagonal[super[s] + j] = x[px[s] + std::size_t(j) * n_rows + j];
+          }
+        std::vector<int> kept; // per supernode, its kept rows' positions
+        std::vector<std::size_t> kept_offset(L.nsuper + 1, 0);
+        for (std::size_t s = 0; s < L.nsuper; ++s)
+          {
+            const int     n_cols = super[s + 1] - super[s];
+            const int     n_rows = pi[s + 1] - pi[s];
+            const double *block  = x + px[s];
+            for (int r = n_cols; r < n_rows; ++r)
+              {
+                const double row_diagonal = diagonal[Ls[pi[s] + r]];
+                bool         keep         = false;
+                for (int j = 0; j < n_cols && !keep; ++j)
+                  keep = std::abs(block[std::size_t(j) * n_rows + r]) >=
+                         negligible *
+                           std::sqrt(row_diagonal * diagonal[super[s] + j]);
+                if (keep)
+                  kept.push_back(r);
+              }
+            kept_offset[s + 1] = kept.size();
+          }
+        rows.resize(kept.size());
+        row_offset = kept_offset;
         offset.assign(L.nsuper + 1, 0);
         for (std::size_t s = 0; s < L.nsuper; ++s)
           {
             const std::size_t n_cols = super[s + 1] - super[s];
-            const std::size_t n_rows = pi[s + 1] - pi[s];
-            offset[s + 1]            = offset[s] + n_cols * (n_cols + 1) / 2 +
-                            (n_rows - n_cols) * n_cols;
+            const std::size_t n_kept = kept_offset[s + 1] - kept_offset[s];
+            offset[s + 1] =
+              offset[s] + n_cols * (n_cols + 1) / 2 + n_kept * n_cols;
+            for (std::size_t k = kept_offset[s]; k < kept_offset[s + 1]; ++k)
+              rows[k] = Ls[pi[s] + kept[k]];
           }
         values.resize(offset.back());
         for (std::size_t s = 0; s < L.nsuper; ++s)
@@ -163,7 +205,6 @@ namespace isoimpact
             const std::size_t n_rows = pi[s + 1] - pi[s];
             const double     *block  = x + px[s];
             double           *target = values.data() + offset[s];
-            // Entry (row r, column j) of the block is block[j * n_rows + r].
             for (std::size_t first = 0; first < n_cols; first += rows_per_group)
               {
                 const std::size_t end =
@@ -175,27 +216,28 @@ namespace isoimpact
                   for (std::size_t r = j; r < end; ++r)
                     *target++ = block[j * n_rows + r];
               }
-            // The rows below in groups of rows_per_group, column by column
-            // within a group (the last, shorter group likewise).
-            for (std::size_t first = n_cols; first < n_rows;
-                 first += rows_per_group)
+            // The kept rows below in groups of rows_per_group, column by
+            // column within a group (the last, shorter group likewise).
+            const int        *below  = kept.data() + kept_offset[s];
+            const std::size_t n_kept = kept_offset[s + 1] - kept_offset[s];
+            for (std::size_t first = 0; first < n_kept; first += rows_per_group)
               {
                 const std::size_t end =
-                  std::min(n_rows, first + rows_per_group);
+                  std::min(n_kept, first + rows_per_group);
                 for (std::size_t j = 0; j < n_cols; ++j)
                   for (std::size_t r = first; r < end; ++r)
-                    *target++ = block[j * n_rows + r];
+                    *target++ = block[j * n_rows + below[r]];
               }
           }
       }
     };
 
     // Supernode s of a supernodal factor: columns [k1, k1 + n_cols), the
-    // diagonal block's rows k1... first, then the n_below rows `rows`
+    // diagonal block's rows k1... first, then the n_below kept rows `rows`
     // below it; values from PackedValues.
     struct Supernode
     {
-      int           k1, n_cols, n_rows, n_below;
+      int           k1, n_cols, n_below;
       const int    *rows;
       const double *triangle, *lower;
 
@@ -204,12 +246,10 @@ namespace isoimpact
                 const int             s)
       {
         const auto *super = static_cast<const int *>(L.super);
-        const auto *pi    = static_cast<const int *>(L.pi);
         k1                = super[s];
         n_cols            = super[s + 1] - k1;
-        n_rows            = pi[s + 1] - pi[s];
-        n_below           = n_rows - n_cols;
-        rows              = static_cast<const int *>(L.s) + pi[s] + n_cols;
+        n_below           = packed.row_offset[s + 1] - packed.row_offset[s];
+        rows              = packed.rows.data() + packed.row_offset[s];
         triangle          = packed.values.data() + packed.offset[s];
         lower             = triangle + std::size_t(n_cols) * (n_cols + 1) / 2;
       }
@@ -690,7 +730,8 @@ namespace isoimpact
   ComponentMassSolver::initialize(
     const SparseMatrix<double>       &mass,
     const std::vector<unsigned char> &dof_component,
-    const MPI_Comm                    mpi_communicator)
+    const MPI_Comm                    mpi_communicator,
+    const double                      negligible)
   {
     Timer timer;
     factors.clear();
@@ -886,7 +927,7 @@ namespace isoimpact
                                std::to_string(cm->status) + ")"));
         AssertThrow(factor->L->is_super && factor->L->is_ll,
                     ExcMessage("CHOLMOD returned no supernodal mass factor"));
-        factor->packed.pack(*factor->L);
+        factor->packed.pack(*factor->L, negligible);
         factor->L->x =
           cholmod_free(factor->L->xsize, sizeof(double), factor->L->x, cm);
         factor->L->xsize = 0;
@@ -1119,6 +1160,8 @@ namespace isoimpact
         // indices and the work arrays of the solve.
         bytes += factor->packed.values.size() * sizeof(double) +
                  factor->packed.offset.size() * sizeof(std::size_t) +
+                 factor->packed.rows.size() * sizeof(int) +
+                 factor->packed.row_offset.size() * sizeof(std::size_t) +
                  L->ssize * sizeof(int) +
                  (3 * L->nsuper + 3 + L->n) * sizeof(int) +
                  factor->gather.size() * sizeof(Index) +
