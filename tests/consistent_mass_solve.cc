@@ -86,6 +86,30 @@ namespace
     return history;
   }
 
+  // The body's consistent mass assembled on the stiffness's whole pattern
+  // (kept in `pattern`, which `mass` refers to).
+  void
+  assemble_mass_on_stiffness_pattern(const ElasticBody<2> &body,
+                                     SparsityPattern      &pattern,
+                                     SparseMatrix<double> &mass)
+  {
+    make_sparsity_pattern(body.discretization(), body.constraints(), pattern);
+    mass.reinit(pattern);
+    assemble_consistent_mass_matrix(body.discretization(),
+                                    body.material().density,
+                                    body.constraints(),
+                                    mass);
+  }
+
+  std::vector<unsigned char>
+  dof_components(const Discretization<2> &disc)
+  {
+    std::vector<unsigned char> components(disc.n_dofs());
+    for (types::global_dof_index i = 0; i < components.size(); ++i)
+      components[i] = disc.dof_component(i);
+    return components;
+  }
+
   void
   check_scene(const std::string &file, const double time_step)
   {
@@ -116,14 +140,10 @@ namespace
       // 6. The body's mass, stored without its zeros, against the mass
       // assembled on the whole stiffness pattern: the same kinetic energy
       // 1/2 x . M y, bit for bit.
-      const auto     &disc = body.discretization();
-      SparsityPattern pattern;
-      make_sparsity_pattern(disc, body.constraints(), pattern);
-      SparseMatrix<double> mass(pattern);
-      assemble_consistent_mass_matrix(disc,
-                                      body.material().density,
-                                      body.constraints(),
-                                      mass);
+      const auto          &disc = body.discretization();
+      SparsityPattern      pattern;
+      SparseMatrix<double> mass;
+      assemble_mass_on_stiffness_pattern(body, pattern, mass);
       {
         Vector<double> x(f_random.size()), y = f_random, my(f_random.size());
         for (auto &value : x)
@@ -139,10 +159,8 @@ namespace
       // 5. The ranks' split solve against one process's.
       if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
         {
-          std::vector<unsigned char> components(disc.n_dofs());
-          for (types::global_dof_index i = 0; i < components.size(); ++i)
-            components[i] = disc.dof_component(i);
-          ComponentMassSolver serial, split;
+          const std::vector<unsigned char> components = dof_components(disc);
+          ComponentMassSolver              serial, split;
           serial.initialize(mass, components, MPI_COMM_SELF);
           split.initialize(mass, components, MPI_COMM_WORLD);
           CHECK_TRUE(split.n_parallel_subtrees() >= 2);
@@ -203,19 +221,13 @@ namespace
     parameters.mass_scheme = MassScheme::consistent;
     for (auto &body : parameters.bodies)
       body.geometry.global_refinements = level;
-    Scene           scene = build_scene(parameters);
-    ElasticBody<2> &body  = *scene.bodies[0];
-    const auto     &disc  = body.discretization();
-    SparsityPattern pattern;
-    make_sparsity_pattern(disc, body.constraints(), pattern);
-    SparseMatrix<double> mass(pattern);
-    assemble_consistent_mass_matrix(disc,
-                                    body.material().density,
-                                    body.constraints(),
-                                    mass);
-    std::vector<unsigned char> components(disc.n_dofs());
-    for (types::global_dof_index i = 0; i < components.size(); ++i)
-      components[i] = disc.dof_component(i);
+    Scene                scene = build_scene(parameters);
+    ElasticBody<2>      &body  = *scene.bodies[0];
+    const auto          &disc  = body.discretization();
+    SparsityPattern      pattern;
+    SparseMatrix<double> mass;
+    assemble_mass_on_stiffness_pattern(body, pattern, mass);
+    const std::vector<unsigned char>       components = dof_components(disc);
     Vector<double>                         g(disc.n_dofs());
     std::mt19937                           generator(11);
     std::uniform_real_distribution<double> uniform(-1., 1.);
