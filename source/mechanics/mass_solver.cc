@@ -167,7 +167,7 @@ namespace isoimpact
               diagonal[super[s] + j] = x[px[s] + std::size_t(j) * n_rows + j];
           }
         std::vector<int> kept; // per supernode, its kept rows' positions
-        std::vector<std::size_t> kept_offset(L.nsuper + 1, 0);
+        row_offset.assign(L.nsuper + 1, 0);
         for (std::size_t s = 0; s < L.nsuper; ++s)
           {
             const int     n_cols = super[s + 1] - super[s];
@@ -184,18 +184,17 @@ namespace isoimpact
                 if (keep)
                   kept.push_back(r);
               }
-            kept_offset[s + 1] = kept.size();
+            row_offset[s + 1] = kept.size();
           }
         rows.resize(kept.size());
-        row_offset = kept_offset;
         offset.assign(L.nsuper + 1, 0);
         for (std::size_t s = 0; s < L.nsuper; ++s)
           {
             const std::size_t n_cols = super[s + 1] - super[s];
-            const std::size_t n_kept = kept_offset[s + 1] - kept_offset[s];
+            const std::size_t n_kept = row_offset[s + 1] - row_offset[s];
             offset[s + 1] =
               offset[s] + n_cols * (n_cols + 1) / 2 + n_kept * n_cols;
-            for (std::size_t k = kept_offset[s]; k < kept_offset[s + 1]; ++k)
+            for (std::size_t k = row_offset[s]; k < row_offset[s + 1]; ++k)
               rows[k] = Ls[pi[s] + kept[k]];
           }
         values.resize(offset.back());
@@ -218,8 +217,8 @@ namespace isoimpact
               }
             // The kept rows below in groups of rows_per_group, column by
             // column within a group (the last, shorter group likewise).
-            const int        *below  = kept.data() + kept_offset[s];
-            const std::size_t n_kept = kept_offset[s + 1] - kept_offset[s];
+            const int        *below  = kept.data() + row_offset[s];
+            const std::size_t n_kept = row_offset[s + 1] - row_offset[s];
             for (std::size_t first = 0; first < n_kept; first += rows_per_group)
               {
                 const std::size_t end =

@@ -1,7 +1,6 @@
 // Layer 4: stable time step bounds and estimate.
 #include <deal.II/base/quadrature_lib.h>
 
-
 #include <isoimpact/mechanics/stable_time_step.h>
 
 #include <Eigen/Dense>
