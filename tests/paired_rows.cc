@@ -16,6 +16,14 @@
 //    same sums in another order (the coupling inside the pair added last)
 //    differ from vmult; and a mutation of PairedRows::products() that adds
 //    that coupling last fails check 3 by up to 3.6e-12 (FEA Q9).
+// 4. Rows from several matrices (a rank's own rows and its load-balancing
+//    band, ElasticBody): K's pairs split over matrices A (pairs p = 0 mod 3)
+//    and B (p = 1 mod 3), the others stored in neither (only a zero
+//    diagonal). The pairs built from A and B give vmult's bits on their
+//    rows and zero on the others, and store only their own rows: their
+//    stored entries plus those of the pairs of the rest equal the whole
+//    matrix's. A pair whose two rows come from different matrices gives no
+//    pairs.
 // Also: a matrix with an odd number of rows gives no pairs.
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 
@@ -42,6 +50,32 @@ namespace
     for (unsigned int i = 0; i < x.size(); ++i)
       largest = std::max(largest, std::abs(x(i) - y(i)));
     return largest;
+  }
+
+  // The rows of K for which keep(row) holds; the other rows hold only a
+  // zero diagonal (as the rows another rank computes).
+  struct SelectedRows
+  {
+    SparsityPattern      pattern;
+    SparseMatrix<double> matrix;
+  };
+  template <typename Keep>
+  std::unique_ptr<SelectedRows>
+  select_rows(const SparseMatrix<double> &K, const Keep &keep)
+  {
+    DynamicSparsityPattern dsp(K.m(), K.n());
+    for (unsigned int row = 0; row < K.m(); ++row)
+      if (keep(row))
+        for (auto entry = K.begin(row); entry != K.end(row); ++entry)
+          dsp.add(row, entry->column());
+    auto selected = std::make_unique<SelectedRows>();
+    selected->pattern.copy_from(dsp);
+    selected->matrix.reinit(selected->pattern);
+    for (unsigned int row = 0; row < K.m(); ++row)
+      if (keep(row))
+        for (auto entry = K.begin(row); entry != K.end(row); ++entry)
+          selected->matrix.set(row, entry->column(), entry->value());
+    return selected;
   }
 
   std::unique_ptr<ElasticBody<2>>
@@ -146,6 +180,52 @@ namespace
         check_true(name + ": control, another order differs from vmult",
                    largest_difference(reordered, by_vmult) > 0.);
       }
+
+    // 4. The rows from two matrices, a third of the pairs in neither.
+    const auto a    = select_rows(K, [](unsigned int row) {
+      return (row / 2) % 3 == 0;
+    });
+    const auto b    = select_rows(K, [](unsigned int row) {
+      return (row / 2) % 3 == 1;
+    });
+    const auto rest = select_rows(K, [](unsigned int row) {
+      return (row / 2) % 3 == 2;
+    });
+    PairedRows split_pairs, rest_pairs;
+    split_pairs.build({&a->matrix, &b->matrix});
+    rest_pairs.build(rest->matrix);
+    check_true(name + ": rows from two matrices pair up",
+               !split_pairs.empty() && !rest_pairs.empty());
+    if (split_pairs.empty() || rest_pairs.empty())
+      return;
+    check_close(name + ": stored entries of two matrices' pairs + the rest's",
+                split_pairs.n_stored_entries() + rest_pairs.n_stored_entries(),
+                pairs.n_stored_entries(),
+                0.);
+    Vector<double> by_vmult(K.m()), by_split_pairs(K.m());
+    K.vmult(by_vmult, u);
+    for (unsigned int row = 0; row < K.m(); ++row)
+      if ((row / 2) % 3 == 2)
+        by_vmult(row) = 0.;
+    split_pairs.vmult(by_split_pairs, u);
+    check_close(name + ": two matrices' pairs: max |K u - K u (vmult)| on "
+                       "their rows, |K u| on the others",
+                largest_difference(by_split_pairs, by_vmult),
+                0.,
+                1.,
+                0.,
+                true);
+    // A pair's two rows from two matrices: no pairs.
+    const auto first_rows  = select_rows(K, [](unsigned int row) {
+      return row % 2 == 0;
+    });
+    const auto second_rows = select_rows(K, [](unsigned int row) {
+      return row % 2 == 1;
+    });
+    PairedRows torn_pairs;
+    torn_pairs.build({&first_rows->matrix, &second_rows->matrix});
+    check_true(name + ": a pair's rows from two matrices give no pairs",
+               torn_pairs.empty());
   }
 } // namespace
 

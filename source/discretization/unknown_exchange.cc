@@ -161,8 +161,14 @@ namespace isoimpact
   {
     // Owned, in ascending order (the serial pass's order of the rows):
     // rank 0 the layers <= present_split, rank 1 the others.
+    // (Sized exactly: these lists are as long as the rank's rows.)
     for (unsigned int p = 0; p < 2; ++p)
-      owned_by_rank[p].clear();
+      {
+        owned_by_rank[p].clear();
+        owned_by_rank[p].shrink_to_fit();
+        owned_by_rank[p].reserve(
+          std::count(owner_of.begin(), owner_of.end(), p));
+      }
     for (types::global_dof_index i = 0; i < owner_of.size(); ++i)
       owned_by_rank[owner_of[i]].push_back(i);
     ranges.clear();
@@ -506,29 +512,29 @@ namespace isoimpact
   {
     if (n_procs == 1)
       return;
-    std::vector<int> counts(n_procs), offsets(n_procs + 1, 0);
+    // Each rank's owned entries in turn, in pieces broadcast from their
+    // owner: no buffer of the vector's length (this runs at the memory
+    // peak, in the initial acceleration).
+    constexpr std::size_t piece = std::size_t(1) << 16;
+    std::vector<double>   buffer;
     for (unsigned int p = 0; p < n_procs; ++p)
       {
-        counts[p]      = owned_by_rank[p].size();
-        offsets[p + 1] = offsets[p] + counts[p];
+        const auto &owned = owned_by_rank[p];
+        for (std::size_t first = 0; first < owned.size(); first += piece)
+          {
+            const std::size_t end = std::min(owned.size(), first + piece);
+            buffer.resize(end - first);
+            if (p == rank)
+              for (std::size_t j = first; j < end; ++j)
+                buffer[j - first] = vector[owned[j]];
+            const int ierr =
+              MPI_Bcast(buffer.data(), buffer.size(), MPI_DOUBLE, p, comm);
+            AssertThrowMPI(ierr);
+            if (p != rank)
+              for (std::size_t j = first; j < end; ++j)
+                vector[owned[j]] = buffer[j - first];
+          }
       }
-    gather_buffer.resize(offsets[n_procs]);
-    const auto         &owned = owned_by_rank[rank];
-    std::vector<double> mine(owned.size());
-    for (std::size_t j = 0; j < owned.size(); ++j)
-      mine[j] = vector[owned[j]];
-    const int ierr = MPI_Allgatherv(mine.data(),
-                                    mine.size(),
-                                    MPI_DOUBLE,
-                                    gather_buffer.data(),
-                                    counts.data(),
-                                    offsets.data(),
-                                    MPI_DOUBLE,
-                                    comm);
-    AssertThrowMPI(ierr);
-    for (unsigned int p = 0; p < n_procs; ++p)
-      for (std::size_t j = 0; j < owned_by_rank[p].size(); ++j)
-        vector[owned_by_rank[p][j]] = gather_buffer[offsets[p] + j];
   }
 
   void

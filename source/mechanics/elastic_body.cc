@@ -171,6 +171,9 @@ namespace isoimpact
     // owned unknowns from the cells that carry them.
     std::optional<UnknownPartition<dim>> partition;
     std::optional<RowSelection>          owned_rows;
+    // With load balancing: the band's rows this rank does not own at the
+    // start, which only its lumped pass reads (in pairs, below).
+    std::optional<RowSelection> band_rows;
     if (ranks && Utilities::MPI::job_supports_mpi() &&
         Utilities::MPI::n_mpi_processes(ranks->communicator) > 1)
       {
@@ -192,34 +195,42 @@ namespace isoimpact
         // The rows: those the rank may own (with load balancing, the
         // band of the other rank's rows too), and with shared_rows the
         // shared unknowns' (on every rank).
-        IndexSet rows(disc.n_dofs());
+        IndexSet rows(disc.n_dofs()), band(disc.n_dofs());
         {
+          const auto owned = row_exchange.owned_unknowns();
+          rows.add_indices(owned.begin(), owned.end());
           const auto stored = row_exchange.rows_to_store();
-          rows.add_indices(stored.begin(), stored.end());
+          band.add_indices(stored.begin(), stored.end());
+          band.subtract_set(rows);
         }
         if (ranks->shared_rows)
           rows.add_indices(ranks->shared.begin(), ranks->shared.end());
         rows.compress();
+        band.compress();
         // The cells that contribute to these rows: those that carry an
         // owned unknown or a shared row's and, with hanging nodes, those
-        // that carry an unknown constrained to one of the rows.
+        // that carry an unknown constrained to one of the rows; those that
+        // carry a band row.
         std::vector<unsigned char> contributes(
           disc.triangulation().n_active_cells(),
-          0);
+          0),
+          contributes_to_band(contributes.size(), 0);
         std::vector<types::global_dof_index> indices;
         for (const auto &cell : disc.dof_handler().active_cell_iterators())
           {
             const unsigned int c = cell->active_cell_index();
             contributes[c]       = partition->is_assembly_cell(c, rank);
-            if (contributes[c] || (body_constraints.n_constraints() == 0 &&
-                                   !ranks->shared_rows && !balancing))
+            if ((contributes[c] || (body_constraints.n_constraints() == 0 &&
+                                    !ranks->shared_rows)) &&
+                band.is_empty())
               continue;
             disc.get_dof_indices(cell, indices);
             for (const auto i : indices)
               {
+                contributes_to_band[c] |= band.is_element(i);
                 // (A cell that is not an assembly cell carries no owned
                 // unknown.)
-                if (ranks->shared_rows || balancing)
+                if (ranks->shared_rows)
                   contributes[c] |= rows.is_element(i);
                 if (const auto *entries =
                       body_constraints.get_constraint_entries(i))
@@ -230,6 +241,11 @@ namespace isoimpact
         owned_rows = RowSelection{rows, [contributes](const unsigned int cell) {
                                     return contributes[cell] != 0;
                                   }};
+        if (!band.is_empty())
+          band_rows =
+            RowSelection{band, [contributes_to_band](const unsigned int cell) {
+                           return contributes_to_band[cell] != 0;
+                         }};
       }
 
     stiffness_rows =
@@ -305,12 +321,54 @@ namespace isoimpact
     // numbered 2p and 2p + 1 (IGA always, FEA's Cuthill-McKee numbering in
     // practice); a numbering that splits them would fill the blocks with
     // zeros: then one row at a time.
+    // With load balancing the band's rows, which only the pass reads, are
+    // kept in the pairs alone (assembled apart, then dropped); if the rows
+    // do not pair up, they join the stiffness after all.
     if (fused_lumped_step || mass_solver)
       {
-        paired_stiffness.build(stiffness);
-        if (paired_stiffness.n_stored_entries() >
-            1.25 * stiffness.n_nonzero_elements())
+        SparsityPattern      band_pattern;
+        SparseMatrix<double> band_stiffness;
+        std::size_t          n_entries = stiffness.n_nonzero_elements();
+        if (band_rows)
+          {
+            make_sparsity_pattern(disc,
+                                  body_constraints,
+                                  band_pattern,
+                                  &*band_rows);
+            band_stiffness.reinit(band_pattern);
+            assemble_stiffness_matrix(disc,
+                                      material,
+                                      body_constraints,
+                                      band_stiffness,
+                                      &*band_rows);
+            n_entries += band_stiffness.n_nonzero_elements();
+          }
+        std::vector<const SparseMatrix<double> *> parts = {&stiffness};
+        if (band_rows)
+          parts.push_back(&band_stiffness);
+        paired_stiffness.build(parts);
+        if (paired_stiffness.n_stored_entries() > 1.25 * n_entries)
           paired_stiffness = PairedRows();
+      }
+    if (band_rows && paired_stiffness.empty())
+      {
+        owned_rows->rows.add_indices(band_rows->rows);
+        const auto own = owned_rows->cells, other = band_rows->cells;
+        owned_rows->cells = [own, other](const unsigned int cell) {
+          return own(cell) || other(cell);
+        };
+        stiffness_rows = owned_rows->rows;
+        stiffness.clear();
+        make_sparsity_pattern(disc,
+                              body_constraints,
+                              sparsity_pattern,
+                              &*owned_rows);
+        stiffness.reinit(sparsity_pattern);
+        assemble_stiffness_matrix(disc,
+                                  material,
+                                  body_constraints,
+                                  stiffness,
+                                  &*owned_rows);
       }
 
     // Several ranks without the fused step (consistent mass, hanging
@@ -322,7 +380,8 @@ namespace isoimpact
     displacement.reinit(n);
     velocity.reinit(n);
     acceleration.reinit(n);
-    scratch.reinit(n);
+    // (scratch takes its size where it is used: the lumped step never
+    // needs it.)
     // Both bases form a partition of unity: a uniform velocity has equal
     // coefficients.
     for (types::global_dof_index i = 0; i < n; ++i)
@@ -617,8 +676,23 @@ namespace isoimpact
         sums.strain += u[i] * ku;
       };
     // Rows 2p and 2p + 1 side by side where both are to be stepped
-    // (paired_stiffness: the same bits as one at a time), else one row.
-    const bool   pairs    = !paired_stiffness.empty();
+    // (paired_stiffness: the same bits as one at a time), else one row,
+    // (K u)_i from the pairs if there are (the band's rows of a rank are
+    // only there).
+    const bool pairs       = !paired_stiffness.empty();
+    const auto row_product = [&](const std::size_t i) {
+      double ku = 0.;
+      if (pairs)
+        {
+          double first, second;
+          paired_stiffness.products(i / 2, u, first, second);
+          ku = (i % 2 == 0) ? first : second;
+        }
+      else
+        for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
+          ku += values[j] * u[columns[j]];
+      return ku;
+    };
     StepEnergies energies = sum_over_blocks(
       n,
       block_energies,
@@ -670,10 +744,7 @@ namespace isoimpact
                 k += 2;
                 continue;
               }
-            double ku = 0.;
-            for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
-              ku += values[j] * u[columns[j]];
-            row_step(i, ku, sums);
+            row_step(i, row_product(i), sums);
             ++k;
           }
       });
@@ -684,9 +755,7 @@ namespace isoimpact
         const std::size_t i = line.index;
         if (owned_rows_only && !row_exchange.is_owned(i))
           continue;
-        double ku = 0.;
-        for (std::size_t j = rowstart[i]; j < rowstart[i + 1]; ++j)
-          ku += values[j] * u[columns[j]];
+        const double ku = row_product(i);
         energies.kinetic -= vh[i] * mass[i] * vh[i];
         energies.strain -= u[i] * ku;
       }
@@ -857,13 +926,16 @@ namespace isoimpact
   void
   ElasticBody<dim>::mass_vmult(Vector<double> &y, const Vector<double> &x) const
   {
-    scratch = x;
-    body_constraints.set_zero(scratch);
     if (scheme == MassScheme::consistent)
-      consistent_mass.vmult(y, scratch);
+      {
+        scratch = x;
+        body_constraints.set_zero(scratch);
+        consistent_mass.vmult(y, scratch);
+      }
     else
       {
-        y = scratch;
+        y = x;
+        body_constraints.set_zero(y);
         y.scale(lumped_mass);
       }
   }

@@ -190,9 +190,8 @@ namespace isoimpact
                  std::vector<std::vector<double>> &receives,
                  std::vector<MPI_Request>         &requests) const;
     void
-                                finish_update(dealii::Vector<double>                 &vector,
-                                              const std::vector<std::vector<double>> &receives) const;
-    mutable std::vector<double> gather_buffer;
+    finish_update(dealii::Vector<double>                 &vector,
+                  const std::vector<std::vector<double>> &receives) const;
   };
 } // namespace isoimpact
 

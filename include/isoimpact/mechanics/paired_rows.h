@@ -34,6 +34,8 @@ namespace isoimpact
    *
    * Built only where it applies: an even number of rows, each row's
    * columns after the diagonal ascending (deal.II's square patterns).
+   * A pair whose rows hold only a zero diagonal (rows another MPI rank
+   * computes) takes no space; its products are zero.
    */
   class PairedRows
   {
@@ -41,6 +43,11 @@ namespace isoimpact
     // The pairs of `matrix` (empty() if the matrix does not qualify).
     void
     build(const dealii::SparseMatrix<double> &matrix);
+    // The same for matrices of one size whose stored rows do not overlap
+    // (each row from the first matrix that stores it): the rows of a rank
+    // kept apart from those only its pass reads.
+    void
+    build(const std::vector<const dealii::SparseMatrix<double> *> &matrices);
 
     bool
     empty() const
@@ -59,10 +66,10 @@ namespace isoimpact
     std::size_t
     n_stored_entries() const
     {
-      return block_values.size() + diagonal_values.size();
+      return block_values.size();
     }
 
-    // (K u)_{2p} and (K u)_{2p+1}.
+    // (K u)_{2p} and (K u)_{2p+1}, for a pair whose rows are stored.
     inline void
     products(const std::size_t p,
              const double     *u,
@@ -85,8 +92,9 @@ namespace isoimpact
     memory_consumption() const;
 
   private:
-    // Where pair p's entries are: its blocks from begin to end, those below
-    // the diagonal before middle; the arrays; its diagonal block.
+    // Where pair p's entries are: its off-diagonal blocks from begin to
+    // end, those below the diagonal before middle; the arrays; its
+    // diagonal block.
     struct Pair
     {
       std::size_t         begin, middle, end;
@@ -97,26 +105,26 @@ namespace isoimpact
     Pair
     pair(const std::size_t p) const
     {
-      return {pair_start[p],
-              pair_start[p] + blocks_before_diagonal[p],
+      return {pair_start[p] + 1,
+              pair_start[p] + 1 + blocks_before_diagonal[p],
               pair_start[p + 1],
               block_column_pair.data(),
               block_values.data(),
-              diagonal_values.data() + 4 * p};
+              block_values.data() + 4 * pair_start[p]};
     }
 
-    // Pair p's off-diagonal blocks: pair_start[p] to pair_start[p + 1]; the
-    // blocks of columns below 2p are the first ones, up to
-    // pair_start[p] + blocks_before_diagonal[p].
+    // Pair p's blocks: pair_start[p] to pair_start[p + 1] (none if its rows
+    // are not stored). The first is the diagonal block, a(2p, 2p),
+    // a(2p + 1, 2p + 1), a(2p, 2p + 1), a(2p + 1, 2p); then the blocks of
+    // columns below 2p, blocks_before_diagonal[p] of them, then the others.
     std::vector<std::size_t>  pair_start;
     std::vector<unsigned int> blocks_before_diagonal;
-    // Column pair j of each block (its columns are 2j and 2j + 1).
+    // Column pair j of each block (its columns are 2j and 2j + 1; p for the
+    // diagonal block).
     std::vector<unsigned int> block_column_pair;
-    // Per block, column by column: a(2p, 2j), a(2p + 1, 2j),
+    // Per off-diagonal block, column by column: a(2p, 2j), a(2p + 1, 2j),
     // a(2p, 2j + 1), a(2p + 1, 2j + 1).
     dealii::AlignedVector<double> block_values;
-    // Per pair: a(2p, 2p), a(2p + 1, 2p + 1), a(2p, 2p + 1), a(2p + 1, 2p).
-    dealii::AlignedVector<double> diagonal_values;
   };
 
 
