@@ -112,6 +112,7 @@ namespace isoimpact
               columns.begin();
           }
         pair_start.push_back(block_column_pair.size());
+        some_rows_not_stored |= pair_start[p + 1] == pair_start[p];
       }
     block_values.resize(4 * block_column_pair.size(), 0.);
     for (std::size_t p = 0; p < n_pairs; ++p)
@@ -158,7 +159,7 @@ namespace isoimpact
       n_pairs(),
       [this, in, out](const std::size_t begin, const std::size_t end) {
         for (std::size_t p = begin; p < end; ++p)
-          if (pair_start[p + 1] == pair_start[p])
+          if (some_rows_not_stored && pair_start[p + 1] == pair_start[p])
             out[2 * p] = out[2 * p + 1] = 0.; // rows not stored
           else
 #ifdef __SSE2__

@@ -125,6 +125,8 @@ namespace isoimpact
     // Per off-diagonal block, column by column: a(2p, 2j), a(2p + 1, 2j),
     // a(2p, 2j + 1), a(2p + 1, 2j + 1).
     dealii::AlignedVector<double> block_values;
+    // Whether some pair's rows are not stored (vmult() then tests each).
+    bool some_rows_not_stored = false;
   };
 
 
