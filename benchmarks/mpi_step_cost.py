@@ -15,8 +15,12 @@ least), and the memory per process:
   libdeal.ii, measured with /proc/PID/smaps) in every rank, although the
   ranks share them;
 - peak anonymous resident memory (RssAnon of /proc/PID/status, read every
-  20 ms while the run lasts): the process's own data, what a further rank
-  adds.
+  0.25 s while the run lasts): the process's own data, what a further rank
+  adds. (Read every 20 ms, the polling took about 8 % of a core: it slowed
+  the 2-rank runs, which need both cores and wait for the slower rank,
+  more than the others. A transient shorter than 0.25 s, such as the
+  initial acceleration's product, may be missed; heaptrack gives the exact
+  peak heap, doc/parallel.md.)
 
 usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--steps 200]
                                           [--build build] [--mass HRZ|consistent]
@@ -79,7 +83,7 @@ def peak_anonymous_memory(top_pid, program, stop, peaks):
                 anon = re.search(r"^RssAnon:\s*(\d+) kB", text, re.M)
                 if anon:
                     peaks[pid] = max(peaks.get(pid, 0), int(anon.group(1)) * 1024)
-        time.sleep(0.02)
+        time.sleep(0.25)
 
 
 def run(program, prm, work, ranks, threads):
