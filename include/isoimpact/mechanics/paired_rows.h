@@ -45,7 +45,8 @@ namespace isoimpact
     build(const dealii::SparseMatrix<double> &matrix);
     // The same for matrices of one size whose stored rows do not overlap
     // (each row from the first matrix that stores it): the rows of a rank
-    // kept apart from those only its pass reads.
+    // kept apart from those only its pass reads. A pair's two rows must
+    // come from one matrix (else empty()).
     void
     build(const std::vector<const dealii::SparseMatrix<double> *> &matrices);
 
