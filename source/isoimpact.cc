@@ -208,7 +208,11 @@ namespace isoimpact
           << " cells (checked against the available memory)\n"
           << std::setprecision(6);
     pcout << "  contact: " << scene.contacts[0]->description() << '\n';
-    if (n_ranks > 1)
+    if (n_ranks > 1 && scene.bodies_on_ranks)
+      pcout << "  " << n_ranks << " MPI ranks; each body whole on a rank of "
+            << "its own (body b on rank b - 1), the contact surfaces "
+            << "exchanged (Parallel/Distribution)\n";
+    else if (n_ranks > 1)
       pcout << "  " << n_ranks << " MPI ranks; each computes the rows of its "
             << "own unknowns (body 1: "
             << scene.bodies[0]->exchange().owned_unknowns().size()

@@ -150,6 +150,27 @@ namespace
         CHECK_CLOSE_ABS(jumps, 0., 0.);
         CHECK_TRUE(deepest < -2 && highest > 3);
       }
+
+    // 7. A body whole in one part (Parallel/Distribution): part 1 of 2
+    // owns every unknown and assembles every cell, part 0 nothing; no
+    // interface layers.
+    const UnknownPartition<2> whole(discretization, 2, 1);
+    double                    cells_of_1 = 0., assembled_by_0 = 0.;
+    for (unsigned int c = 0; c < n_cells; ++c)
+      {
+        cells_of_1 += whole.cell_owner(c) == 1 && whole.is_assembly_cell(c, 1);
+        assembled_by_0 += whole.is_assembly_cell(c, 0);
+      }
+    std::cout << discretization.name() << ", whole in part 1 of 2: owned "
+              << whole.owned_unknowns(0).n_elements() << " / "
+              << whole.owned_unknowns(1).n_elements() << std::endl;
+    CHECK_CLOSE_ABS(whole.owned_unknowns(1).n_elements(), n, 0.);
+    CHECK_CLOSE_ABS(whole.relevant_unknowns(1).n_elements(), n, 0.);
+    CHECK_CLOSE_ABS(whole.owned_unknowns(0).n_elements(), 0., 0.);
+    CHECK_CLOSE_ABS(whole.relevant_unknowns(0).n_elements(), 0., 0.);
+    CHECK_CLOSE_ABS(cells_of_1, n_cells, 0.);
+    CHECK_CLOSE_ABS(assembled_by_0, 0., 0.);
+    CHECK_CLOSE_ABS(whole.interface_layers().size(), 0., 0.);
   }
 
   void

@@ -18,7 +18,8 @@ namespace isoimpact
   template <int dim>
   UnknownPartition<dim>::UnknownPartition(
     const Discretization<dim> &discretization,
-    const unsigned int         n_parts)
+    const unsigned int         n_parts,
+    const unsigned int         whole_in_part)
   {
     const auto        &mesh    = discretization.triangulation();
     const unsigned int n_cells = mesh.n_active_cells();
@@ -27,9 +28,15 @@ namespace isoimpact
                            " cells into " + std::to_string(n_parts) +
                            " parts: allowed are 1 to the number of cells"));
 
+    const bool whole = whole_in_part != numbers::invalid_unsigned_int;
+    AssertThrow(!whole || whole_in_part < n_parts,
+                ExcMessage("cannot put the cells in part " +
+                           std::to_string(whole_in_part) + " of " +
+                           std::to_string(n_parts)));
+
     // METIS on the cells' face graph.
-    cell_owners.assign(n_cells, 0);
-    if (n_parts > 1)
+    cell_owners.assign(n_cells, whole ? whole_in_part : 0);
+    if (n_parts > 1 && !whole)
       {
         DynamicSparsityPattern face_graph;
         GridTools::get_face_connectivity_of_cells(mesh, face_graph);
@@ -104,7 +111,7 @@ namespace isoimpact
 
     // Two parts: breadth-first layers from the interface, each part's
     // within itself (a shortest path to the other part crosses none).
-    if (n_parts == 2)
+    if (n_parts == 2 && !whole)
       {
         std::vector<std::vector<unsigned int>>            cells_of(n_unknowns);
         std::vector<std::vector<types::global_dof_index>> unknowns_of(n_cells);

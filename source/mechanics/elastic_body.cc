@@ -179,13 +179,15 @@ namespace isoimpact
       {
         const unsigned int n_ranks =
           Utilities::MPI::n_mpi_processes(ranks->communicator);
-        partition.emplace(disc, n_ranks);
+        partition.emplace(disc, n_ranks, ranks->whole_on_rank);
         // Load balancing needs the fused lumped step on owned rows.
         const bool fused_step_possible =
           scheme != MassScheme::consistent && !ranks->whole_state &&
           !ranks->shared_rows && only_zero_constraints(body_constraints);
-        const bool balancing = fused_step_possible && n_ranks == 2 &&
-                               ranks->load_balancing != LoadBalancing::off;
+        const bool balancing =
+          fused_step_possible && n_ranks == 2 &&
+          ranks->whole_on_rank == numbers::invalid_unsigned_int &&
+          ranks->load_balancing != LoadBalancing::off;
         row_exchange            = UnknownExchange(*partition,
                                        ranks->communicator,
                                        ranks->shared,

@@ -610,9 +610,11 @@ namespace isoimpact
                            const HigherOrderPiece &piece,
                            const bool              compress)
     {
-      const unsigned int        n_cells = piece.n_cells;
-      const unsigned int        n       = piece.points.size() / 3 / n_cells;
-      const auto                arrays  = point_arrays(true);
+      const unsigned int n_cells = piece.n_cells;
+      // (A rank may hold no cell of a body: an empty piece.)
+      const unsigned int n =
+        n_cells > 0 ? piece.points.size() / 3 / n_cells : 0;
+      const auto                arrays = point_arrays(true);
       AppendedArrays            data(compress);
       std::ostringstream        xml;
       const std::vector<double> time{piece.time};

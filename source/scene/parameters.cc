@@ -284,6 +284,17 @@ namespace isoimpact
       "(measured), stay where the partition put them (off), or move one "
       "layer per step back and forth (sweep: a check of the machinery). "
       "The motion has the same bits in every case.");
+    prm.declare_entry(
+      "Distribution",
+      "automatic",
+      Patterns::Selection("automatic|split"),
+      "How the deformable bodies go to the MPI ranks. automatic: with as "
+      "many ranks as bodies, bodies of equal size (unknowns within 5 %) and "
+      "a lumped mass without hanging nodes, bipenalty or mass "
+      "redistribution, each body whole on a rank of its own (the bodies "
+      "share no cell: the partition with no cut; the ranks exchange the "
+      "contact surfaces only); else every body split over all ranks. "
+      "split: every body split over all ranks.");
     prm.leave_subsection();
 
     prm.enter_subsection("Mass matrix");
@@ -577,6 +588,7 @@ namespace isoimpact
                                       LoadBalancing::off :
                                       (balancing == "sweep" ? LoadBalancing::sweep :
                                                               LoadBalancing::measured);
+      split_every_body            = prm.get("Distribution") == "split";
     }
     prm.leave_subsection();
 

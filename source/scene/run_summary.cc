@@ -280,8 +280,9 @@ namespace isoimpact
                {"max_relative_residual", w.max_residual_ratio}};
       }
     // Several MPI ranks: each body's split at the end (load balancing).
-    summary["mpi_ranks"]   = n_world_ranks();
-    summary["rank_splits"] = nlohmann::ordered_json::array();
+    summary["mpi_ranks"]             = n_world_ranks();
+    summary["bodies_whole_on_ranks"] = scene.bodies_on_ranks;
+    summary["rank_splits"]           = nlohmann::ordered_json::array();
     for (const auto &body : scene.bodies)
       {
         const UnknownExchange &exchange = body->exchange();

@@ -409,6 +409,41 @@ namespace isoimpact
     Scene scene;
     scene.symmetry_factor = parameters.symmetry_factor();
 
+    std::vector<std::unique_ptr<Discretization<2>>> discretizations;
+    for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
+      discretizations.push_back(
+        create_discretization<2>(parameters.method,
+                                 parameters.bodies[b].geometry,
+                                 parameters.degree,
+                                 parameters.fea_element));
+    // Several MPI ranks: with as many ranks as bodies of equal size and the
+    // owned-rows step (lumped mass, constraints u_i = 0 alone, neither the
+    // bipenalty nor mass redistribution), each body whole on a rank of its
+    // own: the partition of the scene's mesh with no cut, since the bodies
+    // share no cell. The ranks then exchange the contact surfaces only.
+    // Else every body is split over all ranks (Parallel/Distribution).
+    const unsigned int n_ranks         = n_world_ranks();
+    bool               bodies_on_ranks = false;
+    if (n_ranks > 1 && n_ranks == discretizations.size() &&
+        !parameters.split_every_body &&
+        parameters.mass_scheme != MassScheme::consistent &&
+        !parameters.bipenalty && !parameters.mass_redistribution)
+      {
+        bodies_on_ranks                  = true;
+        types::global_dof_index smallest = discretizations[0]->n_dofs(),
+                                largest  = smallest;
+        for (const auto &discretization : discretizations)
+          {
+            smallest = std::min(smallest, discretization->n_dofs());
+            largest  = std::max(largest, discretization->n_dofs());
+            AffineConstraints<double> hanging_nodes;
+            discretization->make_constraints(hanging_nodes);
+            bodies_on_ranks &= hanging_nodes.n_constraints() == 0;
+          }
+        bodies_on_ranks &= largest <= 1.05 * smallest;
+      }
+    scene.bodies_on_ranks = bodies_on_ranks;
+
     for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
       {
         const auto                  &body = parameters.bodies[b];
@@ -416,15 +451,12 @@ namespace isoimpact
         if (body.symmetry_cut &&
             body.geometry.shape == BodyGeometry::Shape::half_disk)
           rollers.push_back({BodyGeometry::symmetry_boundary_id, 0});
-        auto discretization = create_discretization<2>(parameters.method,
-                                                       body.geometry,
-                                                       parameters.degree,
-                                                       parameters.fea_element);
+        auto discretization = std::move(discretizations[b]);
         // Several MPI ranks: each builds and computes the rows of its own
         // unknowns, and reads the contact surfaces whole (their unknowns
         // are every rank's).
         std::optional<RankDistribution> ranks;
-        if (n_world_ranks() > 1)
+        if (n_ranks > 1)
           {
             // The bipenalty changes the state where the penalty masses
             // change, mass redistribution makes the surfaces massless: every
@@ -436,6 +468,8 @@ namespace isoimpact
                                              parameters.mass_redistribution,
                                            parameters.mass_redistribution});
             ranks->load_balancing = parameters.load_balancing;
+            if (bodies_on_ranks)
+              ranks->whole_on_rank = b;
             for (const auto &segment : discretization->boundary_segments(
                    BodyGeometry::curved_boundary_id))
               for (const auto &node : segment.node_dofs)

@@ -4,8 +4,13 @@ column's largest value), and over the whole impact the impulse, the contact
 duration and the force trend peak to 1e-4, the energy balance and the bodies'
 masses equal. The raw penalty force chatters, so later steps may drift apart
 by the growth of round-off; the runs here happen to stay much closer.
+With as many ranks as bodies of equal size and a lumped mass without
+hanging nodes, bipenalty or mass redistribution (Parallel/Distribution =
+automatic), body b is whole on rank b - 1; else, and with Distribution =
+split, every rank owns unknowns of every body.
 Where the scene writes ParaView output, the ranks' last .pvtu record
-lists one piece per body and rank, every piece holds cells, and the pieces
+lists one piece per body and rank, the pieces that hold cells are one per
+body (bodies whole on ranks) or all of them (split), and the pieces
 together hold the serial run's cells: the same number of cells and points,
 and the same points with the same displacement (rows sorted, to 1e-12 of the
 largest value).
@@ -98,6 +103,23 @@ for case in sys.argv[4:]:
     # the first, within bounds that hold layers on both sides.
     splits = parallel_summary["rank_splits"]
     check_true(f"{label}: a split reported per body", len(splits) == len(serial_masses) >= 1)
+    # The distribution the scene asks for (Parallel/Distribution).
+    text = open(prm).read() + "".join(f"\n{k}={v}" for k, v in edits.items())
+    scheme = (re.findall(r"Scheme\s*=\s*(\S+)", text) or ["HRZ"])[-1]
+    local = (re.findall(r"Local refinements\s*=\s*(\d+)", text) or ["0"])[-1]
+    method = (re.findall(r"Method\s*=\s*(\S+)", text) or ["fea"])[-1]
+    whole = (ranks == len(splits) and
+             edits.get("Parallel/Distribution", "automatic") == "automatic" and
+             scheme != "consistent" and not (method == "fea" and local != "0") and
+             edits.get("Contact/Bipenalty", "false") == "false" and
+             edits.get("Contact/Mass redistribution", "false") == "false")
+    check_true(f"{label}: bodies whole on ranks: {whole} expected",
+               parallel_summary["bodies_whole_on_ranks"] == whole)
+    for b, split in enumerate(splits):
+        owned = split["owned_unknowns_per_rank"]
+        check_true(f"{label}: {split['body']}: owned unknowns per rank {owned}",
+                   owned == [split["unknowns"] if r == b else 0 for r in range(ranks)]
+                   if whole else min(owned) > 0 and sum(owned) == split["unknowns"])
     balancing = edits.get("Parallel/Load balancing", "measured")
     for split in splits:
         if balancing in ("off", "sweep"):
@@ -149,7 +171,8 @@ for case in sys.argv[4:]:
               f"{piece_cells} cells")
         check_close(f"{label}: pieces of the {ranks}-rank record (one per body and rank)",
                     len(pieces2), ranks * len(pieces1), 0)
-        check_true(f"{label}: every piece holds cells", min(piece_cells) > 0)
+        check_close(f"{label}: pieces that hold cells", sum(c > 0 for c in piece_cells),
+                    len(pieces1) if whole else len(pieces2), 0)
         check_close(f"{label}: cells of the {ranks}-rank pieces", cells2, cells1, 0)
         check_close(f"{label}: points of the {ranks}-rank pieces", points2, points1, 0)
         scale = np.max(np.abs(rows1), axis=0)

@@ -1,5 +1,5 @@
 // Layer 3: the distribution of a discretisation's unknowns over MPI ranks
-// (issue 13; the design is in doc/parallel.md). Not used by the program yet.
+// (issue 13; the design is in doc/parallel.md).
 #ifndef isoimpact_unknown_partition_h
 #define isoimpact_unknown_partition_h
 
@@ -20,13 +20,19 @@ namespace isoimpact
    * one of its own: the columns of its rows of the stiffness and mass
    * matrices (without hanging-node constraints), so the ghosts a step must
    * receive are relevant minus owned.
+   *
+   * With `whole_in_part` < n_parts every cell goes to that part and the
+   * others own nothing: a body whole on one rank (Parallel/Distribution),
+   * which the other ranks see through its shared unknowns only.
    */
   template <int dim>
   class UnknownPartition
   {
   public:
-    UnknownPartition(const Discretization<dim> &discretization,
-                     const unsigned int         n_parts);
+    UnknownPartition(
+      const Discretization<dim> &discretization,
+      const unsigned int         n_parts,
+      const unsigned int whole_in_part = dealii::numbers::invalid_unsigned_int);
 
     unsigned int
     n_parts() const;
@@ -72,7 +78,7 @@ namespace isoimpact
      * another split of the same kind, whose ghosts are layer s + 1 and
      * layer s (UnknownExchange's load balancing). An unknown of a part
      * that does not touch the other keeps the largest magnitude
-     * (interface_layer_unreached).
+     * (interface_layer_unreached). Empty for a body whole in one part.
      */
     const std::vector<int>                      &
     interface_layers() const;

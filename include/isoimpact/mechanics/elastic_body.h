@@ -42,6 +42,10 @@ namespace isoimpact
     // 2 ranks, lumped mass, no hanging nodes, no whole_state: rows move
     // between the ranks at run time (UnknownExchange).
     LoadBalancing load_balancing = LoadBalancing::off;
+    // A rank of `communicator` that owns the whole body (the others read
+    // its shared unknowns only; no load balancing), or invalid: the body
+    // split over all ranks.
+    unsigned int whole_on_rank = dealii::numbers::invalid_unsigned_int;
   };
 
   template <int dim>

@@ -26,6 +26,9 @@ namespace isoimpact
     // Contact force and energies are reported for the full physical
     // bodies: the modelled ones times this factor.
     double symmetry_factor = 1.;
+    // Several MPI ranks: body b whole on rank b (Parallel/Distribution),
+    // else every body split over all ranks.
+    bool bodies_on_ranks = false;
     // Unit vector along the relative initial velocity of the two bodies (of
     // the fixed obstacle and body 1): the contact force reported is the
     // resultant on body 1 along it.
