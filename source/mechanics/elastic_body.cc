@@ -300,21 +300,13 @@ namespace isoimpact
                                            material.density,
                                            scheme,
                                            body_constraints);
-        inverse_lumped_mass.reinit(lumped_mass.size());
-        for (unsigned int i = 0; i < lumped_mass.size(); ++i)
-          inverse_lumped_mass(i) =
-            (lumped_mass(i) > 0.) ? 1. / lumped_mass(i) : 0.;
         // With constraints u_i = 0 alone (rollers, no hanging nodes), the
         // acceleration is a_i = (f - K u)_i / m_i on free rows and 0 on
         // constrained ones: one pass after the mat-vec, no condensation.
+        // Its inverse masses (zero on the constrained rows) then serve
+        // every solve: the other inverse is not kept.
         fused_lumped_step = only_zero_constraints(body_constraints);
-
-        if (fused_lumped_step)
-          {
-            step_inverse_mass = inverse_lumped_mass;
-            for (const auto &line : body_constraints.get_lines())
-              step_inverse_mass(line.index) = 0.;
-          }
+        set_inverse_masses();
       }
 
     // K u two rows at a time, the same bits as vmult's
@@ -461,9 +453,25 @@ namespace isoimpact
       mass_solver->solve(a, f);
     else
       {
+        // (The fused step's inverse masses differ on constrained rows
+        // only, which every caller sets to zero after the solve.)
         a = f;
-        a.scale(inverse_lumped_mass);
+        a.scale(fused_lumped_step ? step_inverse_mass : inverse_lumped_mass);
       }
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::set_inverse_masses()
+  {
+    Vector<double> &inverse =
+      fused_lumped_step ? step_inverse_mass : inverse_lumped_mass;
+    inverse.reinit(lumped_mass.size());
+    for (unsigned int i = 0; i < lumped_mass.size(); ++i)
+      inverse(i) = (lumped_mass(i) > 0.) ? 1. / lumped_mass(i) : 0.;
+    if (fused_lumped_step)
+      for (const auto &line : body_constraints.get_lines())
+        step_inverse_mass(line.index) = 0.;
   }
 
   template <int dim>
@@ -1183,9 +1191,9 @@ namespace isoimpact
         if (penalty_momentum_switching)
           v(i) = old_mass / new_mass * v_old;
         change += new_mass * v(i) * v(i) - old_mass * v_old * v_old;
-        inverse_lumped_mass(i) = new_mass > 0. ? 1. / new_mass : 0.;
-        if (fused_lumped_step)
-          step_inverse_mass(i) = inverse_lumped_mass(i);
+        // (No penalty mass on a constrained unknown.)
+        (fused_lumped_step ? step_inverse_mass(i) : inverse_lumped_mass(i)) =
+          new_mass > 0. ? 1. / new_mass : 0.;
         penalty_scratch(i)          = 0.;
         previous_penalty_scratch(i) = 0.;
       }
@@ -1245,11 +1253,7 @@ namespace isoimpact
     mass_before_redistribution = lumped_mass;
     lumped_mass                = redistribution.masses;
     massless                   = redistribution.massless;
-    for (unsigned int i = 0; i < lumped_mass.size(); ++i)
-      inverse_lumped_mass(i) = (lumped_mass(i) > 0.) ? 1. / lumped_mass(i) : 0.;
-    step_inverse_mass = inverse_lumped_mass;
-    for (const auto &line : body_constraints.get_lines())
-      step_inverse_mass(line.index) = 0.;
+    set_inverse_masses();
   }
 
   template <int dim>

@@ -332,6 +332,10 @@ namespace isoimpact
     void
     solve_mass(dealii::Vector<double>       &a,
                const dealii::Vector<double> &f) const;
+    // Lumped mass: 1 / m_i (0 where m_i = 0) into inverse_lumped_mass, or
+    // with the fused step into step_inverse_mass, zero on constrained rows.
+    void
+    set_inverse_masses();
     // y = K u (this rank's rows), through the pairs where they exist.
     void
     multiply_by_stiffness(dealii::Vector<double>       &y,
@@ -351,7 +355,8 @@ namespace isoimpact
     // stiffness has this rank's rows only).
     dealii::SparsityPattern mass_sparsity_pattern;
     dealii::Vector<double>  lumped_mass;
-    dealii::Vector<double>  inverse_lumped_mass;
+    // Lumped mass without the fused step: 1 / m_i.
+    dealii::Vector<double> inverse_lumped_mass;
     dealii::PreconditionJacobi<dealii::SparseMatrix<double>>
                                          mass_preconditioner;
     std::unique_ptr<ComponentMassSolver> mass_solver;
