@@ -73,7 +73,16 @@ namespace isoimpact
   {
     auto cache = std::make_unique<MappingQCache<dim>>(degree);
     cache->initialize(*cell_mapping, mesh);
-    cell_mapping = std::move(cache);
+    uncached_mapping = std::move(cell_mapping);
+    cell_mapping     = std::move(cache);
+  }
+
+  template <int dim>
+  void
+  Discretization<dim>::release_mapping_cache()
+  {
+    if (uncached_mapping)
+      cell_mapping = std::move(uncached_mapping);
   }
 
   template <int dim>

@@ -8,6 +8,8 @@
 
 #include <isoimpact/mechanics/elastic_body.h>
 
+#include <malloc.h>
+
 #include <chrono>
 #include <cmath>
 #include <random>
@@ -252,16 +254,29 @@ namespace isoimpact
 
     stiffness_rows =
       owned_rows ? owned_rows->rows : complete_index_set(disc.n_dofs());
-    make_sparsity_pattern(disc,
-                          body_constraints,
-                          sparsity_pattern,
-                          owned_rows ? &*owned_rows : nullptr);
-    stiffness.reinit(sparsity_pattern);
-    assemble_stiffness_matrix(disc,
-                              material,
+    if (owned_rows)
+      row_cells = owned_rows->cells;
+    // A rank that builds no row of this body (the body whole on another
+    // rank) keeps no stiffness at all: a pattern of the body's size would
+    // hold a row start and a diagonal entry for every unknown.
+    const bool builds_no_rows =
+      owned_rows && owned_rows->rows.n_elements() == 0 && !band_rows;
+    if (!builds_no_rows)
+      {
+        make_sparsity_pattern(disc,
                               body_constraints,
-                              stiffness,
+                              sparsity_pattern,
                               owned_rows ? &*owned_rows : nullptr);
+        // The dynamic pattern's rows, freed, go back to the system before
+        // the matrix and its pairs take their (mapped) memory.
+        malloc_trim(0);
+        stiffness.reinit(sparsity_pattern);
+        assemble_stiffness_matrix(disc,
+                                  material,
+                                  body_constraints,
+                                  stiffness,
+                                  owned_rows ? &*owned_rows : nullptr);
+      }
 
     if (scheme == MassScheme::consistent)
       {
@@ -318,7 +333,7 @@ namespace isoimpact
     // With load balancing the band's rows, which only the pass reads, are
     // kept in the pairs alone (assembled apart, then dropped); if the rows
     // do not pair up, they join the stiffness after all.
-    if (fused_lumped_step || mass_solver)
+    if ((fused_lumped_step || mass_solver) && !builds_no_rows)
       {
         SparsityPattern      band_pattern;
         SparseMatrix<double> band_stiffness;
@@ -381,6 +396,11 @@ namespace isoimpact
     for (types::global_dof_index i = 0; i < n; ++i)
       velocity(i) = initial_velocity[disc.dof_component(i)];
     body_constraints.distribute(velocity);
+
+    // A rank with no row of this body reads its contact surface only: the
+    // mapping's cache of every cell goes.
+    if (builds_no_rows)
+      discretization_ptr->release_mapping_cache();
   }
 
   template <int dim>
@@ -501,10 +521,12 @@ namespace isoimpact
   ElasticBody<dim>::multiply_by_stiffness(Vector<double>       &y,
                                           const Vector<double> &u) const
   {
-    if (paired_stiffness.empty())
+    if (!paired_stiffness.empty())
+      paired_stiffness.vmult(y, u); // the same bits
+    else if (!stiffness.empty())
       stiffness.vmult(y, u);
     else
-      paired_stiffness.vmult(y, u); // the same bits
+      y = 0.; // no row of K on this rank
   }
 
   template <int dim>
@@ -649,12 +671,18 @@ namespace isoimpact
     // fixed size keep the order of the energy sums independent of the
     // threads. The force is consumed: f is zero afterwards, ready for the
     // next step's contact forces without a pass of its own.
-    const SparsityPattern &pattern  = stiffness.get_sparsity_pattern();
-    const std::size_t     *rowstart = CompressedRows::row_starts(pattern);
-    const auto            *columns  = CompressedRows::column_numbers(pattern);
+    // (No stiffness: this rank owns no row of the body.)
+    const bool         has_rows = !stiffness.empty();
+    const std::size_t *rowstart =
+      has_rows ? CompressedRows::row_starts(stiffness.get_sparsity_pattern()) :
+                 nullptr;
+    const auto *columns =
+      has_rows ?
+        CompressedRows::column_numbers(stiffness.get_sparsity_pattern()) :
+        nullptr;
     // The entries in the pattern's order: the diagonal of row 0 is the
     // first (square matrix, rowstart[0] = 0).
-    const double *values = &stiffness.diag_element(0);
+    const double *values = has_rows ? &stiffness.diag_element(0) : nullptr;
     const double *u      = displacement.data();
     double       *force  = f.data();
     const double *w      = step_inverse_mass.data();
@@ -812,6 +840,13 @@ namespace isoimpact
   ElasticBody<dim>::exchange() const
   {
     return row_exchange;
+  }
+
+  template <int dim>
+  const CellFilter &
+  ElasticBody<dim>::assembly_cells() const
+  {
+    return row_cells;
   }
 
   template <int dim>
@@ -1099,7 +1134,10 @@ namespace isoimpact
     // their owners; every rank then iterates the same whole vectors.
     const auto stiffness_vmult = [&](Vector<double>       &y,
                                      const Vector<double> &x) {
-      stiffness.vmult(y, x);
+      if (!stiffness.empty())
+        stiffness.vmult(y, x);
+      else
+        y = 0.; // no row of K on this rank
       row_exchange.gather(y);
       if (add_additional)
         add_additional(y, x);

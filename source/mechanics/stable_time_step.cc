@@ -332,11 +332,19 @@ namespace isoimpact
           element_lambda =
             std::max(element_lambda,
                      largest_eigenvalue(stiffness, mass, free_rows));
-      });
-    AssertThrow(std::find(segment_used.begin(), segment_used.end(), false) ==
-                  segment_used.end(),
-                ExcMessage("a contact segment of " + body.name() +
-                           " lies in no element: stable step bound failed"));
+      },
+      body.assembly_cells());
+    // Several ranks: each visited its own cells (together every cell).
+    const auto &exchange  = body.exchange();
+    element_lambda        = exchange.max(element_lambda);
+    element_bound_applies = exchange.max(element_bound_applies ? 0. : 1.) == 0.;
+    {
+      std::vector<double> used(segment_used.begin(), segment_used.end());
+      exchange.sum(used);
+      AssertThrow(std::find(used.begin(), used.end(), 0.) == used.end(),
+                  ExcMessage("a contact segment of " + body.name() +
+                             " lies in no element: stable step bound failed"));
+    }
     if (element_bound_applies)
       result.element_bound = time_step_from_eigenvalue(element_lambda);
 
@@ -346,7 +354,10 @@ namespace isoimpact
         const auto &stiffness = body.stiffness_matrix();
         const auto &mass      = body.lumped_masses();
         double      lambda    = 0.;
-        for (types::global_dof_index i = 0; i < stiffness.m(); ++i)
+        // (No stiffness on a rank that owns no row of the body.)
+        const types::global_dof_index n_rows =
+          stiffness.empty() ? 0 : stiffness.m();
+        for (types::global_dof_index i = 0; i < n_rows; ++i)
           {
             // Massless unknowns (mass redistribution) are not part of the
             // explicit system: M_I^{-1} K_II bounds it (see below).

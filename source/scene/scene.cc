@@ -3,6 +3,8 @@
 #include <isoimpact/mechanics/stable_time_step.h>
 #include <isoimpact/scene/scene.h>
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -443,6 +445,9 @@ namespace isoimpact
         bodies_on_ranks &= largest <= 1.05 * smallest;
       }
     scene.bodies_on_ranks = bodies_on_ranks;
+    // The meshes' and patches' temporaries, freed, go back to the system
+    // (glibc keeps freed small blocks, and large arrays take fresh pages).
+    malloc_trim(0);
 
     for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
       {
@@ -489,6 +494,7 @@ namespace isoimpact
                                            rollers,
                                            body.initial_velocity,
                                            ranks ? &*ranks : nullptr));
+        malloc_trim(0); // the body's temporaries, as above
       }
 
     // The surface masses: the lumped masses in use, or HRZ's for a

@@ -158,6 +158,15 @@ for case in sys.argv[4:]:
                 0., 1e-8, relative=False)
     check_close(f"{label}: max energy error", parallel_summary["max_energy_error"],
                 serial_summary["max_energy_error"], 1e-6)
+    # The stable step: the element bound over each rank's cells and
+    # Gershgorin over its rows (maxima over the ranks: exact), the power
+    # estimate (the same iteration, K x gathered; round-off).
+    for key, tolerance in [("stable_time_step_element_bound_s", 1e-14),
+                           ("stable_time_step_gershgorin_bound_s", 1e-14),
+                           ("stable_time_step_estimate_s", 1e-12)]:
+        if serial_summary.get(key) is not None:
+            check_close(f"{label}: {key}", parallel_summary[key], serial_summary[key],
+                        tolerance)
     check_true(f"{label}: a mass printed for every body, by both runs",
                len(serial_masses) == len(parallel_masses) >= 1)
     for b, (m1, m2) in enumerate(zip(serial_masses, parallel_masses)):

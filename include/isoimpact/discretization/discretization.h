@@ -119,6 +119,12 @@ namespace isoimpact
       return *cell_mapping;
     }
 
+    // Gives up the support points cached by cache_mapping() (if any): the
+    // mapping then evaluates the geometry again on each use (the same
+    // points). For a process that holds none of this body's cells.
+    void
+    release_mapping_cache();
+
     // The vector-valued element (dim displacement components).
     const dealii::FiniteElement<dim> &
     fe() const
@@ -246,6 +252,8 @@ namespace isoimpact
   private:
     const dealii::FESystem<dim>                 vector_fe;
     std::unique_ptr<const dealii::Mapping<dim>> cell_mapping;
+    // The mapping cache_mapping() cached (else null).
+    std::unique_ptr<const dealii::Mapping<dim>> uncached_mapping;
     const dealii::QGauss<dim>                   gauss_quadrature;
     std::vector<dealii::Point<dim>>             unknown_positions;
     std::vector<unsigned char>                  unknown_components;

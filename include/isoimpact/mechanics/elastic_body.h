@@ -257,6 +257,11 @@ namespace isoimpact
     // The rows this rank computes and its ghosts (see the constructor).
     const UnknownExchange &
     exchange() const;
+    // The cells (active cell indices) whose element matrices this rank
+    // computes: those that carry a row it builds; over the ranks, every
+    // cell. Null on one process: every cell.
+    const CellFilter &
+    assembly_cells() const;
     // On several ranks with the consistent mass, hanging nodes or the
     // whole state asked for (see the constructor): every rank computes the
     // whole state from K u, whose rows the ranks compute and gather every step;
@@ -367,6 +372,7 @@ namespace isoimpact
     std::vector<dealii::types::global_dof_index> massless;
     // The rows of the stiffness this rank built (all on one process).
     dealii::IndexSet               stiffness_rows;
+    CellFilter                     row_cells;
     dealii::Vector<double>         mass_before_redistribution;
     dealii::Vector<double>         step_inverse_mass;
     mutable dealii::Vector<double> scratch, mass_times_scratch,
