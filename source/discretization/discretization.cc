@@ -87,6 +87,14 @@ namespace isoimpact
 
   template <int dim>
   void
+  Discretization<dim>::release_cell_unknowns()
+  {
+    release_mapping_cache();
+    dofs.reinit(mesh); // attached to the mesh, no element, no unknowns
+  }
+
+  template <int dim>
+  void
   Discretization<dim>::make_constraints(AffineConstraints<double> &) const
   {}
 

@@ -398,9 +398,9 @@ namespace isoimpact
     body_constraints.distribute(velocity);
 
     // A rank with no row of this body reads its contact surface only: the
-    // mapping's cache of every cell goes.
+    // mapping's cache and the unknowns' numbering on the cells go.
     if (builds_no_rows)
-      discretization_ptr->release_mapping_cache();
+      discretization_ptr->release_cell_unknowns();
   }
 
   template <int dim>

@@ -246,12 +246,15 @@ namespace isoimpact
     // One body with deal.II's DataOut: n_subdivisions^2 linear cells per
     // element. Compressed with zlib's fastest level: the default (best
     // compression) took most of the run's time.
+    // With empty_piece, no cell: the arrays of `body` without values (the
+    // piece of a body whose cells this rank does not hold).
     void
     write_subdivided_vtu(std::ostream         &out,
                          const ElasticBody<2> &body,
                          const Vector<double> &contact_pressure,
                          const double          time,
-                         const unsigned int    n_subdivisions)
+                         const unsigned int    n_subdivisions,
+                         const bool            empty_piece = false)
     {
       const auto     &disc = body.discretization();
       const DoFFields fields(body, contact_pressure);
@@ -277,10 +280,10 @@ namespace isoimpact
       data_out.add_data_vector(pressure, pressure_field);
       // Several MPI ranks: this rank's cells (UnknownExchange::owns_cell).
       const UnknownExchange &exchange = body.exchange();
-      if (exchange.is_distributed())
+      if (exchange.is_distributed() || empty_piece)
         data_out.set_cell_selection(FilteredIterator<DataOut<2>::cell_iterator>(
-          [&exchange](const DataOut<2>::cell_iterator &cell) {
-            return cell->is_active() &&
+          [&exchange, empty_piece](const DataOut<2>::cell_iterator &cell) {
+            return !empty_piece && cell->is_active() &&
                    exchange.owns_cell(cell->active_cell_index());
           }));
       data_out.build_patches(disc.mapping(),
@@ -811,15 +814,26 @@ namespace isoimpact
       {
         // deal.II's DataOut refers to the body's vectors: written here.
         finish();
+        // A body whose cells this rank does not hold (their unknowns'
+        // numbering released): an empty piece with the arrays of one that
+        // it holds (every body has the same fields).
+        unsigned int held = 0;
+        while (held < bodies.size() &&
+               !bodies[held]->discretization().holds_cell_unknowns())
+          ++held;
+        AssertThrow(held < bodies.size(), ExcInternalError());
         for (unsigned int b = 0; b < bodies.size(); ++b)
           write_by_rename(directory + "/" + pieces[b], [&](std::ostream &out) {
             try
               {
+                const bool empty =
+                  !bodies[b]->discretization().holds_cell_unknowns();
                 write_subdivided_vtu(out,
-                                     *bodies[b],
-                                     contact_pressures[b],
+                                     *bodies[empty ? held : b],
+                                     contact_pressures[empty ? held : b],
                                      time,
-                                     n_subdivisions);
+                                     n_subdivisions,
+                                     empty);
               }
             catch (const ExceptionBase &)
               {
@@ -842,6 +856,15 @@ namespace isoimpact
     std::vector<std::shared_ptr<const HigherOrderPiece>> samples(bodies.size());
     std::vector<std::future<void>>                       sampling;
     const auto sample = [&](const unsigned int b) {
+      if (!bodies[b]->discretization().holds_cell_unknowns())
+        {
+          // A body whose cells this rank does not hold: an empty piece.
+          auto empty  = std::make_shared<HigherOrderPiece>();
+          empty->time = time;
+          empty->point_data.resize(point_arrays(true).size());
+          samples[b] = empty;
+          return;
+        }
       if (!samplings[b])
         samplings[b] =
           std::make_shared<BodySampling>(bodies[b]->discretization());

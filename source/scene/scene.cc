@@ -445,6 +445,11 @@ namespace isoimpact
         bodies_on_ranks &= largest <= 1.05 * smallest;
       }
     scene.bodies_on_ranks = bodies_on_ranks;
+    // Contact is searched only on the declared surfaces: the arcs.
+    for (const auto &discretization : discretizations)
+      scene.contact_surfaces.push_back(
+        discretization->boundary_segments(BodyGeometry::curved_boundary_id));
+    const auto &surfaces = scene.contact_surfaces;
     // The meshes' and patches' temporaries, freed, go back to the system
     // (glibc keeps freed small blocks, and large arrays take fresh pages).
     malloc_trim(0);
@@ -475,8 +480,7 @@ namespace isoimpact
             ranks->load_balancing = parameters.load_balancing;
             if (bodies_on_ranks)
               ranks->whole_on_rank = b;
-            for (const auto &segment : discretization->boundary_segments(
-                   BodyGeometry::curved_boundary_id))
+            for (const auto &segment : surfaces[b])
               for (const auto &node : segment.node_dofs)
                 ranks->shared.insert(ranks->shared.end(),
                                      node.begin(),
@@ -508,11 +512,6 @@ namespace isoimpact
                                                 body->material().density,
                                                 MassScheme::hrz,
                                                 body->constraints()));
-    // Contact is searched only on the declared surfaces: the arcs.
-    std::vector<std::vector<BoundarySegment<2>>> surfaces;
-    for (const auto &body : scene.bodies)
-      surfaces.push_back(body->discretization().boundary_segments(
-        BodyGeometry::curved_boundary_id));
 
     // Penalty = auto: k = s mu / dt^2 (the surfaces' mean mass per length,
     // reduced for two bodies; dt the bodies' stable step bound without
@@ -843,8 +842,7 @@ namespace isoimpact
     // the partner comes from -impact_direction, where Body 1 meets it.
     const Point<2> first_contact =
       geometry.center - geometry.radius * scene.impact_direction;
-    const auto segments = scene.bodies[0]->discretization().boundary_segments(
-      BodyGeometry::curved_boundary_id);
+    const auto         &segments = scene.contact_surfaces[0];
     std::vector<double> r, dr;
     double              nearest = std::numeric_limits<double>::max();
     double              length  = 0.;

@@ -125,6 +125,20 @@ namespace isoimpact
     void
     release_mapping_cache();
 
+    // Gives up the unknowns' numbering on the cells (the DoFHandler's
+    // storage) and the mapping's cache, for a process that holds none of
+    // this body's cells and reads only its contact surface. The mesh, the
+    // unknowns' positions and components stay; code that reads the
+    // unknowns of cells must then skip the body (holds_cell_unknowns()).
+    void
+    release_cell_unknowns();
+
+    bool
+    holds_cell_unknowns() const
+    {
+      return dofs.has_active_dofs();
+    }
+
     // The vector-valued element (dim displacement components).
     const dealii::FiniteElement<dim> &
     fe() const

@@ -22,6 +22,8 @@ namespace isoimpact
     std::vector<std::unique_ptr<ElasticBody<2>>>  bodies;
     std::vector<std::unique_ptr<ContactModel<2>>> contacts;
     std::vector<ContactInteraction<2>>            interactions;
+    // The declared contact surface of every body (its arcs).
+    std::vector<std::vector<BoundarySegment<2>>> contact_surfaces;
 
     // Contact force and energies are reported for the full physical
     // bodies: the modelled ones times this factor.
