@@ -242,6 +242,8 @@ namespace isoimpact
                     contributes[c] |= rows.is_element(master);
               }
           }
+        // (The partition's tables are not needed any more.)
+        partition.reset();
         owned_rows = RowSelection{rows, [contributes](const unsigned int cell) {
                                     return contributes[cell] != 0;
                                   }};
