@@ -10,6 +10,7 @@
 #include <isoimpact/discretization/unknown_partition.h>
 
 #include <algorithm>
+#include <numeric>
 
 using namespace dealii;
 
@@ -75,29 +76,43 @@ namespace isoimpact
       for (unsigned int p = 0; p < n_parts; ++p)
         owned[p].add_indices(owned_lists[p].begin(), owned_lists[p].end());
     }
-    // Relevant: every unknown of a cell that carries an owned one.
+    // Relevant: every unknown of a cell that carries an owned one. (All in
+    // one part: every unknown and every cell of that part, without the
+    // lists of every cell's unknowns.)
     std::vector<std::vector<types::global_dof_index>> relevant_lists(n_parts);
     std::vector<unsigned int>                         parts_of_cell;
     assembly_cells.assign(n_parts, {});
-    for (const auto &cell :
-         discretization.dof_handler().active_cell_iterators())
+    if (whole)
       {
-        discretization.get_dof_indices(cell, indices);
-        parts_of_cell.clear();
-        for (const auto i : indices)
-          parts_of_cell.push_back(unknown_owners[i]);
-        std::sort(parts_of_cell.begin(), parts_of_cell.end());
-        parts_of_cell.erase(std::unique(parts_of_cell.begin(),
-                                        parts_of_cell.end()),
-                            parts_of_cell.end());
-        for (const unsigned int p : parts_of_cell)
-          {
-            relevant_lists[p].insert(relevant_lists[p].end(),
-                                     indices.begin(),
-                                     indices.end());
-            assembly_cells[p].push_back(cell->active_cell_index());
-          }
+        relevant_lists[whole_in_part].resize(n_unknowns);
+        std::iota(relevant_lists[whole_in_part].begin(),
+                  relevant_lists[whole_in_part].end(),
+                  types::global_dof_index(0));
+        assembly_cells[whole_in_part].resize(n_cells);
+        std::iota(assembly_cells[whole_in_part].begin(),
+                  assembly_cells[whole_in_part].end(),
+                  0u);
       }
+    else
+      for (const auto &cell :
+           discretization.dof_handler().active_cell_iterators())
+        {
+          discretization.get_dof_indices(cell, indices);
+          parts_of_cell.clear();
+          for (const auto i : indices)
+            parts_of_cell.push_back(unknown_owners[i]);
+          std::sort(parts_of_cell.begin(), parts_of_cell.end());
+          parts_of_cell.erase(std::unique(parts_of_cell.begin(),
+                                          parts_of_cell.end()),
+                              parts_of_cell.end());
+          for (const unsigned int p : parts_of_cell)
+            {
+              relevant_lists[p].insert(relevant_lists[p].end(),
+                                       indices.begin(),
+                                       indices.end());
+              assembly_cells[p].push_back(cell->active_cell_index());
+            }
+        }
     for (unsigned int p = 0; p < n_parts; ++p)
       {
         auto &list = relevant_lists[p];
