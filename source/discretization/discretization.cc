@@ -79,17 +79,10 @@ namespace isoimpact
 
   template <int dim>
   void
-  Discretization<dim>::release_mapping_cache()
+  Discretization<dim>::release_cell_unknowns()
   {
     if (uncached_mapping)
       cell_mapping = std::move(uncached_mapping);
-  }
-
-  template <int dim>
-  void
-  Discretization<dim>::release_cell_unknowns()
-  {
-    release_mapping_cache();
     dofs.reinit(mesh); // attached to the mesh, no element, no unknowns
   }
 

@@ -119,16 +119,11 @@ namespace isoimpact
       return *cell_mapping;
     }
 
-    // Gives up the support points cached by cache_mapping() (if any): the
-    // mapping then evaluates the geometry again on each use (the same
-    // points). For a process that holds none of this body's cells.
-    void
-    release_mapping_cache();
-
     // Gives up the unknowns' numbering on the cells (the DoFHandler's
-    // storage) and the mapping's cache, for a process that holds none of
-    // this body's cells and reads only its contact surface. The mesh, the
-    // unknowns' positions and components stay; code that reads the
+    // storage) and the support points cached by cache_mapping() (the
+    // mapping then evaluates the same geometry on each use), for a process that
+    // holds none of this body's cells and reads only its contact surface. The
+    // mesh, the unknowns' positions and components stay; code that reads the
     // unknowns of cells must then skip the body (holds_cell_unknowns()).
     void
     release_cell_unknowns();
