@@ -143,6 +143,34 @@ namespace isoimpact
         }
     }
 
+    // The shape functions of FESystem(scalar element, dim): shape function i
+    // is base function base_index[i] times the unit vector of component[i];
+    // representative[a] is the first shape function of base function a.
+    struct BaseFunctions
+    {
+      std::vector<unsigned int> component, base_index, representative;
+      unsigned int              n_base = 0;
+
+      template <int dim>
+      explicit BaseFunctions(const FiniteElement<dim> &fe)
+        : component(fe.n_dofs_per_cell())
+        , base_index(fe.n_dofs_per_cell())
+      {
+        Assert(fe.n_base_elements() == 1, ExcNotImplemented());
+        const unsigned int n = fe.n_dofs_per_cell();
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            std::tie(component[i], base_index[i]) =
+              fe.system_to_component_index(i);
+            n_base = std::max(n_base, base_index[i] + 1);
+          }
+        representative.assign(n_base, n);
+        for (unsigned int i = 0; i < n; ++i)
+          if (representative[base_index[i]] == n)
+            representative[base_index[i]] = i;
+      }
+    };
+
     template <int dim>
     void
     local_mass_matrix(const FEValues<dim> &fe_values,
@@ -153,21 +181,10 @@ namespace isoimpact
       // integrated once over the base element's functions (each product as
       // rho phi_i JxW phi_j, summed over the points in their order, as it
       // would be per entry) and copied to every component's block.
-      const auto &fe = fe_values.get_fe();
-      Assert(fe.n_base_elements() == 1, ExcNotImplemented());
-      const unsigned int        n = fe.n_dofs_per_cell();
-      std::vector<unsigned int> component(n), base_index(n);
-      unsigned int              n_base = 0;
-      for (unsigned int i = 0; i < n; ++i)
-        {
-          std::tie(component[i], base_index[i]) =
-            fe.system_to_component_index(i);
-          n_base = std::max(n_base, base_index[i] + 1);
-        }
-      std::vector<unsigned int> representative(n_base, n);
-      for (unsigned int i = 0; i < n; ++i)
-        if (representative[base_index[i]] == n)
-          representative[base_index[i]] = i;
+      const BaseFunctions base(fe_values.get_fe());
+      const unsigned int  n = base.component.size(), n_base = base.n_base;
+      const auto &component = base.component, &base_index = base.base_index,
+                 &representative = base.representative;
       std::vector<double> value(n_base), scalar_mass(n_base * n_base, 0.);
       for (const unsigned int q : fe_values.quadrature_point_indices())
         {
@@ -191,25 +208,78 @@ namespace isoimpact
     }
     template <int dim>
     void
-    local_stiffness_matrix(const FEValues<dim>                  &fe_values,
-                           const ElasticMaterial                &material,
-                           std::vector<SymmetricTensor<2, dim>> &strain,
-                           FullMatrix<double>                   &cell_matrix)
+    local_stiffness_matrix(const FEValues<dim>   &fe_values,
+                           const ElasticMaterial &material,
+                           FullMatrix<double>    &cell_matrix)
     {
-      const FEValuesExtractors::Vector displacement(0);
-      strain.resize(fe_values.dofs_per_cell);
+      // Each shape function phi_i = N_a e_c has one component c: its strain
+      // is sym(e_c (x) grad N_a), and for the isotropic material
+      // (ElasticMaterial::stress) sigma(eps_i) : eps_j
+      //   = lambda dN_a/dx_c dN_b/dx_d
+      //     + mu (delta_cd grad N_a . grad N_b + dN_a/dx_d dN_b/dx_c)
+      // for phi_j = N_b e_d. The integrals are taken once per pair of base
+      // functions and pair of components (not per pair of shape functions
+      // through their strain tensors): as sums over the points of products
+      // of the base functions' gradients.
+      const BaseFunctions base(fe_values.get_fe());
+      const unsigned int  n = base.component.size(), n_base = base.n_base;
+      const auto &component = base.component, &base_index = base.base_index,
+                 &representative = base.representative;
+      const unsigned int n_q     = fe_values.n_quadrature_points;
+      // gradient[(c * n_base + a) * n_q + q] = dN_a/dx_c at point q, and
+      // the same times JxW.
+      std::vector<double> gradient(dim * n_base * n_q),
+        weighted(dim * n_base * n_q);
       for (const unsigned int q : fe_values.quadrature_point_indices())
-        {
-          for (const unsigned int i : fe_values.dof_indices())
-            strain[i] = fe_values[displacement].symmetric_gradient(i, q);
-          for (const unsigned int i : fe_values.dof_indices())
+        for (unsigned int a = 0; a < n_base; ++a)
+          {
+            const Tensor<1, dim> g =
+              fe_values.shape_grad_component(representative[a],
+                                             q,
+                                             component[representative[a]]);
+            for (unsigned int c = 0; c < dim; ++c)
+              {
+                gradient[(c * n_base + a) * n_q + q] = g[c];
+                weighted[(c * n_base + a) * n_q + q] = g[c] * fe_values.JxW(q);
+              }
+          }
+      // product[(c * dim + d) * n_base^2 + a * n_base + b]
+      //   = sum_q JxW dN_a/dx_c dN_b/dx_d
+      std::vector<double> product(dim * dim * n_base * n_base);
+      for (unsigned int c = 0; c < dim; ++c)
+        for (unsigned int d = 0; d < dim; ++d)
+          for (unsigned int a = 0; a < n_base; ++a)
             {
-              const SymmetricTensor<2, dim> stress_i =
-                material.stress(strain[i]) * fe_values.JxW(q);
-              for (const unsigned int j : fe_values.dof_indices())
-                cell_matrix(i, j) += stress_i * strain[j];
+              const double *wa = &weighted[(c * n_base + a) * n_q];
+              for (unsigned int b = 0; b < n_base; ++b)
+                {
+                  const double *gb  = &gradient[(d * n_base + b) * n_q];
+                  double        sum = 0.;
+                  for (unsigned int q = 0; q < n_q; ++q)
+                    sum += wa[q] * gb[q];
+                  product[(c * dim + d) * n_base * n_base + a * n_base + b] =
+                    sum;
+                }
             }
-        }
+      const double lambda = material.lame_lambda();
+      const double mu     = material.lame_mu();
+      const auto   P      = [&](const unsigned int c,
+                         const unsigned int d,
+                         const unsigned int a,
+                         const unsigned int b) {
+        return product[(c * dim + d) * n_base * n_base + a * n_base + b];
+      };
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int j = 0; j < n; ++j)
+          {
+            const unsigned int c = component[i], d = component[j];
+            const unsigned int a = base_index[i], b = base_index[j];
+            double entry = lambda * P(c, d, a, b) + mu * P(d, c, a, b);
+            if (c == d)
+              for (unsigned int e = 0; e < dim; ++e)
+                entry += mu * P(e, e, a, b);
+            cell_matrix(i, j) += entry;
+          }
     }
 
     // The element's lumped masses (row-sum or HRZ) from its consistent mass
@@ -277,14 +347,13 @@ namespace isoimpact
                             SparseMatrix<double>            &stiffness_matrix,
                             const RowSelection              *selection)
   {
-    std::vector<SymmetricTensor<2, dim>> strain;
     assemble_matrix<dim>(
       discretization,
       update_gradients,
       constraints,
       stiffness_matrix,
       [&](const FEValues<dim> &fe_values, FullMatrix<double> &cell_matrix) {
-        local_stiffness_matrix(fe_values, material, strain, cell_matrix);
+        local_stiffness_matrix(fe_values, material, cell_matrix);
       },
       selection);
   }
@@ -433,7 +502,6 @@ namespace isoimpact
     const unsigned int                   n = fe.n_dofs_per_cell();
     FullMatrix<double>                   stiffness(n, n), mass(n, n);
     Vector<double>                       cell_mass(n);
-    std::vector<SymmetricTensor<2, dim>> strain;
     std::vector<types::global_dof_index> indices;
     for (const auto &cell :
          discretization.dof_handler().active_cell_iterators())
@@ -443,7 +511,7 @@ namespace isoimpact
         fe_values.reinit(cell);
         stiffness = 0.;
         mass      = 0.;
-        local_stiffness_matrix(fe_values, material, strain, stiffness);
+        local_stiffness_matrix(fe_values, material, stiffness);
         local_mass_matrix(fe_values, material.density, mass);
         if (scheme != MassScheme::consistent)
           {

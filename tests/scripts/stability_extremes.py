@@ -18,7 +18,12 @@ GROUP is one of:
   Time step = auto complete with an energy error below 1 %;
 - channel: a half cylinder bouncing between two rigid planes for 10 s
   (about ten contact durations) with Time step = auto: energy drift below
-  0.5 % without damping."""
+  1 % without damping. Each impact changes the energy by up to about 0.2 %, by
+  how the contact's entry falls between the steps, and these add up: the
+  drift is a random sum. End times 10 to 10.13 s (steps differing by
+  3e-5 relative) gave 0.12-0.52 %, and round-off alone (the stiffness
+  integrated in another order) moved it from 0.25 to 0.52 %. An unstable
+  step grows the energy by tens of % (doc/stability.md)."""
 import json
 import math
 import os
@@ -203,8 +208,8 @@ elif group == "channel":
     free_energy = [e for f, e in zip(force, energy) if f == 0.]
     drift = max(abs(e - energy[0]) for e in free_energy) / energy[0]
     check_true(f"{impacts} impacts (at least 8)", impacts >= 8)
-    check_true(f"energy drift between impacts {100 * drift:.3f} % < 0.5 %",
-               drift < 0.005)
+    check_true(f"energy drift between impacts {100 * drift:.3f} % < 1 %",
+               drift < 0.01)
 
 else:
     sys.exit(f"unknown group {group}")
