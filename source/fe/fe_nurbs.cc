@@ -193,18 +193,18 @@ namespace isoimpact
                                        data.unit_gradients.size(1) != n_points))
       data.unit_gradients.reinit(n_shape, n_points);
 
+    shared_patches->element_rational_basis(element,
+                                           points,
+                                           data.values,
+                                           data.gradients);
     for (unsigned int q = 0; q < n_points; ++q)
       {
-        shared_patches->element_rational_basis(element,
-                                               points[q],
-                                               data.values,
-                                               data.gradients);
         if (flags & update_values)
           for (unsigned int i = 0; i < n_shape; ++i)
-            output_data.shape_values(i, q) = data.values[i];
+            output_data.shape_values(i, q) = data.values[q * n_shape + i];
         if (flags & update_gradients)
           for (unsigned int i = 0; i < n_shape; ++i)
-            data.unit_gradients(i, q) = data.gradients[i];
+            data.unit_gradients(i, q) = data.gradients[q * n_shape + i];
       }
 
     if (flags & update_gradients)

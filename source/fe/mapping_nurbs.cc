@@ -20,6 +20,34 @@ namespace isoimpact
 {
   namespace
   {
+    // x = sum_a R_a P_a and J = sum_a P_a (x) dR_a/dreference over the
+    // element's control points.
+    template <int dim>
+    void
+    position_and_jacobian(const std::vector<Point<dim>>   &control_points,
+                          const std::vector<unsigned int> &indices,
+                          const double                    *values,
+                          const Tensor<1, dim>            *gradients,
+                          Point<dim>                      &x,
+                          Tensor<2, dim>                  &jacobian)
+    {
+      x        = Point<dim>();
+      jacobian = Tensor<2, dim>();
+      for (unsigned int a = 0; a < indices.size(); ++a)
+        {
+          const Point<dim> &P = control_points[indices[a]];
+          for (unsigned int i = 0; i < dim; ++i)
+            {
+              x[i] += values[a] * P[i];
+              for (unsigned int j = 0; j < dim; ++j)
+                jacobian[i][j] += P[i] * gradients[a][j];
+            }
+        }
+    }
+  } // namespace
+
+  namespace
+  {
     template <int dim>
     unsigned int
     element_of(const typename Triangulation<dim>::cell_iterator &cell,
@@ -113,19 +141,12 @@ namespace isoimpact
                                            unit_point,
                                            data.values,
                                            data.gradients);
-    const auto &points = shared_patches->control_points();
-    x                  = Point<dim>();
-    jacobian           = Tensor<2, dim>();
-    for (unsigned int a = 0; a < data.values.size(); ++a)
-      {
-        const Point<dim> &P = points[data.control_points[a]];
-        for (unsigned int i = 0; i < dim; ++i)
-          {
-            x[i] += data.values[a] * P[i];
-            for (unsigned int j = 0; j < dim; ++j)
-              jacobian[i][j] += P[i] * data.gradients[a][j];
-          }
-      }
+    position_and_jacobian<dim>(shared_patches->control_points(),
+                               data.control_points,
+                               data.values.data(),
+                               data.gradients.data(),
+                               x,
+                               jacobian);
   }
 
 
@@ -276,11 +297,23 @@ namespace isoimpact
     const UpdateFlags  flags   = data.update_each;
     if (data.jacobians.size() < points.size())
       data.resize(points.size());
+    // The basis at all points at once (NURBSPatch::element_rational_basis).
+    shared_patches->element_control_points(element, data.control_points);
+    shared_patches->element_rational_basis(element,
+                                           points,
+                                           data.values,
+                                           data.gradients);
+    const unsigned int n = data.control_points.size();
     for (unsigned int q = 0; q < points.size(); ++q)
       {
         Point<dim>     x;
         Tensor<2, dim> J;
-        evaluate(element, points[q], data, x, J);
+        position_and_jacobian<dim>(shared_patches->control_points(),
+                                   data.control_points,
+                                   &data.values[q * n],
+                                   &data.gradients[q * n],
+                                   x,
+                                   J);
         const double det     = determinant(J);
         data.jacobians[q]    = J;
         data.determinants[q] = det;

@@ -188,6 +188,18 @@ namespace isoimpact
     }
 
     template <int dim>
+    void
+    MultiPatch<dim>::element_rational_basis(
+      const unsigned int                     element,
+      const std::vector<dealii::Point<dim>> &reference_points,
+      std::vector<double>                   &values,
+      std::vector<dealii::Tensor<1, dim>>   &gradients) const
+    {
+      const auto [p, e] = local_element(element);
+      patches[p].element_rational_basis(e, reference_points, values, gradients);
+    }
+
+    template <int dim>
     std::shared_ptr<const MultiPatch<dim>>
     as_multipatch(const std::shared_ptr<const NURBSPatch<dim>> &patch)
     {

@@ -404,6 +404,101 @@ namespace isoimpact
 
 
 
+    namespace
+    {
+      // Where an element lies in each parametric direction: its span's
+      // first knot and length, its first basis function and the number of
+      // them, and the stride of the control point grid.
+      template <int dim>
+      struct ElementSpans
+      {
+        std::array<unsigned int, dim> span, first, extent, stride;
+        std::array<double, dim>       lower, length;
+        unsigned int                  n_functions = 1;
+      };
+
+      template <int dim>
+      ElementSpans<dim>
+      element_spans(const std::array<KnotVector, dim> &knots,
+                    const unsigned int                 element,
+                    const unsigned int                 n_elements)
+      {
+        AssertThrow(element < n_elements,
+                    dealii::ExcMessage("NURBS patch: element " +
+                                       std::to_string(element) +
+                                       " does not exist; elements are 0 to " +
+                                       std::to_string(n_elements) + "-1"));
+        ElementSpans<dim> spans;
+        unsigned int      rest = element;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const KnotVector &kv = knots[d];
+            spans.span[d]        = rest % kv.n_spans();
+            rest /= kv.n_spans();
+            const unsigned int k = kv.knot_index_of_span(spans.span[d]);
+            spans.lower[d]       = kv.knots()[k];
+            spans.length[d]      = kv.knots()[k + 1] - spans.lower[d];
+            spans.first[d]       = k - kv.degree();
+            spans.extent[d]      = kv.degree() + 1;
+            spans.stride[d] =
+              (d == 0) ? 1 :
+                         spans.stride[d - 1] * knots[d - 1].n_basis_functions();
+            spans.n_functions *= spans.extent[d];
+          }
+        return spans;
+      }
+
+      // R_a and dR_a/dreference at one point from the B-spline values and
+      // first derivatives of each direction (ders[d][0, extent) and
+      // ders[d][extent, 2 extent)).
+      template <int dim>
+      void
+      rational_basis_from_1d(const ElementSpans<dim>               &spans,
+                             const std::array<const double *, dim> &ders,
+                             const std::vector<double>             &weights,
+                             double                                *values,
+                             dealii::Tensor<1, dim>                *gradients)
+      {
+        std::array<unsigned int, dim> local;
+        local.fill(0);
+        // First pass: w_a N_a and w_a dN_a/dreference; sums W and dW.
+        double                 W = 0.;
+        dealii::Tensor<1, dim> dW;
+        for (unsigned int a = 0; a < spans.n_functions;
+             ++a, increment<dim>(local, spans.extent))
+          {
+            double                 N = 1.;
+            dealii::Tensor<1, dim> dN;
+            for (unsigned int j = 0; j < dim; ++j)
+              dN[j] = spans.length[j];
+            unsigned int index = 0;
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                const double value      = ders[d][local[d]];
+                const double derivative = ders[d][spans.extent[d] + local[d]];
+                N *= value;
+                for (unsigned int j = 0; j < dim; ++j)
+                  dN[j] *= (j == d) ? derivative : value;
+                index += (spans.first[d] + local[d]) * spans.stride[d];
+              }
+            const double w = weights[index];
+            values[a]      = w * N;
+            gradients[a]   = w * dN;
+            W += values[a];
+            dW += gradients[a];
+          }
+        // Second pass: R = wN / W, dR = (w dN - R dW) / W.
+        const double inverse_W = 1. / W;
+        for (unsigned int a = 0; a < spans.n_functions; ++a)
+          {
+            values[a] *= inverse_W;
+            gradients[a] = (gradients[a] - values[a] * dW) * inverse_W;
+          }
+      }
+    } // namespace
+
+
+
     template <int dim, int spacedim>
     void
     NURBSPatch<dim, spacedim>::element_rational_basis(
@@ -412,71 +507,79 @@ namespace isoimpact
       std::vector<double>                 &values,
       std::vector<dealii::Tensor<1, dim>> &gradients) const
     {
+      const ElementSpans<dim> spans =
+        element_spans<dim>(knots, element, n_elements());
       std::array<std::array<double, 2 * max_functions_1d>, dim> ders;
-      std::array<unsigned int, dim> first, extent, local, stride;
-      std::array<double, dim>       span_length;
-      unsigned int                  n    = 1;
-      unsigned int                  rest = element;
-      AssertThrow(element < n_elements(),
-                  dealii::ExcMessage("NURBS patch: element " +
-                                     std::to_string(element) +
-                                     " does not exist; elements are 0 to " +
-                                     std::to_string(n_elements()) + "-1"));
+      std::array<const double *, dim>                           pointers;
       for (unsigned int d = 0; d < dim; ++d)
         {
-          const KnotVector  &kv   = knots[d];
-          const unsigned int span = rest % kv.n_spans();
-          rest /= kv.n_spans();
-          const unsigned int k     = kv.knot_index_of_span(span);
-          const double       lower = kv.knots()[k];
-          span_length[d]           = kv.knots()[k + 1] - lower;
-          kv.basis_derivatives(span,
-                               lower + reference_point[d] * span_length[d],
-                               1,
-                               ders[d].data());
-          first[d]  = k - kv.degree();
-          extent[d] = kv.degree() + 1;
-          local[d]  = 0;
-          stride[d] =
-            (d == 0) ? 1 : stride[d - 1] * knots[d - 1].n_basis_functions();
-          n *= extent[d];
+          knots[d].basis_derivatives(spans.span[d],
+                                     spans.lower[d] +
+                                       reference_point[d] * spans.length[d],
+                                     1,
+                                     ders[d].data());
+          pointers[d] = ders[d].data();
         }
-      if (values.size() != n)
-        values.resize(n);
-      if (gradients.size() != n)
-        gradients.resize(n);
+      if (values.size() != spans.n_functions)
+        values.resize(spans.n_functions);
+      if (gradients.size() != spans.n_functions)
+        gradients.resize(spans.n_functions);
+      rational_basis_from_1d<dim>(spans,
+                                  pointers,
+                                  point_weights,
+                                  values.data(),
+                                  gradients.data());
+    }
 
-      // First pass: w_a N_a and w_a dN_a/dreference; sums W and dW.
-      double                 W = 0.;
-      dealii::Tensor<1, dim> dW;
-      for (unsigned int a = 0; a < n; ++a, increment<dim>(local, extent))
+
+
+    template <int dim, int spacedim>
+    void
+    NURBSPatch<dim, spacedim>::element_rational_basis(
+      const unsigned int                     element,
+      const std::vector<dealii::Point<dim>> &reference_points,
+      std::vector<double>                   &values,
+      std::vector<dealii::Tensor<1, dim>>   &gradients) const
+    {
+      const ElementSpans<dim> spans =
+        element_spans<dim>(knots, element, n_elements());
+      const unsigned int n_points = reference_points.size();
+      const unsigned int n        = spans.n_functions;
+      // The B-splines of each direction once per distinct coordinate.
+      std::array<std::vector<double>, dim>       coordinates, ders;
+      std::vector<std::array<unsigned int, dim>> which(n_points);
+      for (unsigned int d = 0; d < dim; ++d)
+        for (unsigned int q = 0; q < n_points; ++q)
+          {
+            const double u = reference_points[q][d];
+            const auto   found =
+              std::find(coordinates[d].begin(), coordinates[d].end(), u);
+            which[q][d] = found - coordinates[d].begin();
+            if (found == coordinates[d].end())
+              {
+                coordinates[d].push_back(u);
+                ders[d].resize(coordinates[d].size() * 2 * spans.extent[d]);
+                knots[d].basis_derivatives(
+                  spans.span[d],
+                  spans.lower[d] + u * spans.length[d],
+                  1,
+                  &ders[d][which[q][d] * 2 * spans.extent[d]]);
+              }
+          }
+      if (values.size() != n_points * n)
+        values.resize(n_points * n);
+      if (gradients.size() != n_points * n)
+        gradients.resize(n_points * n);
+      for (unsigned int q = 0; q < n_points; ++q)
         {
-          double                 N = 1.;
-          dealii::Tensor<1, dim> dN;
-          for (unsigned int j = 0; j < dim; ++j)
-            dN[j] = span_length[j];
-          unsigned int index = 0;
+          std::array<const double *, dim> pointers;
           for (unsigned int d = 0; d < dim; ++d)
-            {
-              const double value      = ders[d][local[d]];
-              const double derivative = ders[d][extent[d] + local[d]];
-              N *= value;
-              for (unsigned int j = 0; j < dim; ++j)
-                dN[j] *= (j == d) ? derivative : value;
-              index += (first[d] + local[d]) * stride[d];
-            }
-          const double w = point_weights[index];
-          values[a]      = w * N;
-          gradients[a]   = w * dN;
-          W += values[a];
-          dW += gradients[a];
-        }
-      // Second pass: R = wN / W, dR = (w dN - R dW) / W.
-      const double inverse_W = 1. / W;
-      for (unsigned int a = 0; a < n; ++a)
-        {
-          values[a] *= inverse_W;
-          gradients[a] = (gradients[a] - values[a] * dW) * inverse_W;
+            pointers[d] = &ders[d][which[q][d] * 2 * spans.extent[d]];
+          rational_basis_from_1d<dim>(spans,
+                                      pointers,
+                                      point_weights,
+                                      &values[q * n],
+                                      &gradients[q * n]);
         }
     }
 

@@ -115,6 +115,14 @@ namespace isoimpact
         std::vector<double>                 &values,
         std::vector<dealii::Tensor<1, dim>> &gradients) const;
 
+      // At several points (NURBSPatch::element_rational_basis).
+      void
+      element_rational_basis(
+        const unsigned int                     element,
+        const std::vector<dealii::Point<dim>> &reference_points,
+        std::vector<double>                   &values,
+        std::vector<dealii::Tensor<1, dim>>   &gradients) const;
+
     private:
       std::vector<NURBSPatch<dim>>           patches;
       std::vector<unsigned int>              element_offsets;

@@ -170,6 +170,21 @@ namespace isoimpact
         std::vector<dealii::Tensor<1, dim>> &gradients) const;
 
       /**
+       * The same at several points of the element's reference cell:
+       * values[q * n + a] and gradients[q * n + a] at reference_points[q], n
+       * = n_functions_per_element(), each with the bits of the one-point
+       * version. The B-splines of a direction are evaluated once per distinct
+       * coordinate (a tensor-product rule of m^dim points needs m per
+       * direction).
+       */
+      void
+      element_rational_basis(
+        const unsigned int                     element,
+        const std::vector<dealii::Point<dim>> &reference_points,
+        std::vector<double>                   &values,
+        std::vector<dealii::Tensor<1, dim>>   &gradients) const;
+
+      /**
        * Bezier extraction operator of the element: the Kronecker product of
        * the directions' 1D operators, C(a, b) = prod_d C_d(l_d, k_d) with a,b
        * local lexicographic indices, so that N_a = sum_b C(a,b) B_b with the
