@@ -1136,34 +1136,37 @@ namespace isoimpact
     // their owners; every rank then iterates the same whole vectors.
     const auto stiffness_vmult = [&](Vector<double>       &y,
                                      const Vector<double> &x) {
-      if (!stiffness.empty())
-        stiffness.vmult(y, x);
-      else
-        y = 0.; // no row of K on this rank
+      multiply_by_stiffness(y, x);
       row_exchange.gather(y);
       if (add_additional)
         add_additional(y, x);
     };
-    // Power iteration on M^{-1} K in the M inner product; two vectors (y
-    // holds M x before it holds K x).
+    // Power iteration on M^{-1} K in the M inner product: x_{k+1} =
+    // M^{-1} K x_k / |.|_M, and the Rayleigh quotient x^T K x of the last
+    // (M-normalised) x. Each K x serves both: the quotient of x_k and the
+    // next iterate. Two vectors (y holds M x before it holds K x).
     Vector<double>                         x(n_dofs()), y(n_dofs());
     std::mt19937                           generator(42);
     std::uniform_real_distribution<double> uniform(-1., 1.);
     for (auto &value : x)
       value = uniform(generator);
     body_constraints.set_zero(x);
+    const auto normalise = [&]() {
+      mass_vmult(y, x);
+      x /= std::sqrt(y * x);
+    };
+    normalise();
     double lambda = 0.;
-    for (unsigned int it = 0; it < n_iterations; ++it)
+    for (unsigned int it = 0; it <= n_iterations; ++it)
       {
         stiffness_vmult(y, x);
+        lambda = y * x;
+        if (it == n_iterations)
+          break;
         body_constraints.set_zero(y);
         solve_mass(x, y);
         body_constraints.set_zero(x);
-        mass_vmult(y, x);
-        const double norm = std::sqrt(y * x);
-        stiffness_vmult(y, x);
-        lambda = (y * x) / (norm * norm);
-        x /= norm;
+        normalise();
       }
     AssertThrow(lambda > 0. && std::isfinite(lambda),
                 ExcMessage("critical time step estimate failed for body " +
