@@ -230,9 +230,10 @@ set_tests_properties(consistent_mass_solve_2_ranks PROPERTIES TIMEOUT 600)
 # ranks (IGA consistent: the third rank has no subtree of the mass's factor).
 # Two bodies of equal size with a lumped mass go whole to a rank each
 # (Parallel/Distribution = automatic); the split cases divide every body
-# between the ranks. Load balancing (2 ranks, lumped mass, split) is
-# measured by default; the sweep cases move the rows near the ranks'
-# interface every step.
+# between the ranks. Load balancing (2 ranks, lumped mass) is measured by
+# default; the sweep cases move the rows near the ranks' interface (split)
+# or the layers of a body farthest from its contact surface (whole bodies)
+# every step; one whole-body case keeps the bodies whole (off).
 add_test(NAME mpi_history_2_ranks
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/mpi_history.py
     $<TARGET_FILE:isoimpact_program> ${ISOIMPACT_MPIRUN} ${_work}/mpi_history
@@ -242,6 +243,9 @@ add_test(NAME mpi_history_2_ranks
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_q8_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=off"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split"
     ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_rowsum_coarse.prm
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Load balancing=sweep@Output/VTU interval=301"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Load balancing=sweep@Contact/Damping ratio=0.2"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_q8_hrz_coarse.prm@Parallel/Load balancing=off"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=sweep@Output/VTU interval=301"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=sweep@Contact/Damping ratio=0.2"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_rigid_plane_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=sweep"

@@ -39,6 +39,11 @@
 //    and no entry of the stiffness pattern couples layers more than one
 //    apart (0 such entries), which makes every split at a layer a split
 //    whose ghosts are one layer; 1 and 3 parts have no layers.
+// 7. A body whole in one part: no interface, no layers.
+// 8. The same with anchors, the contact surface's unknowns (load balancing
+//    of bodies whole on ranks): layers from the unknowns farthest from the
+//    anchors, every unknown reached, the anchors alone in the deepest
+//    layer, no coupling across more than one layer.
 #include <deal.II/base/mpi.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
@@ -171,6 +176,58 @@ namespace
     CHECK_CLOSE_ABS(cells_of_1, n_cells, 0.);
     CHECK_CLOSE_ABS(assembled_by_0, 0., 0.);
     CHECK_CLOSE_ABS(whole.interface_layers().size(), 0., 0.);
+
+    // 8. A body whole in one part with anchors, its contact surface's
+    // unknowns (load balancing of whole bodies): the layers count from the
+    // unknowns farthest from the anchors (layer 1 in part 1, 0 in part 0);
+    // every unknown is reached, on the owner's side; the anchors are in the
+    // deepest layer and no other unknown is; no entry of the pattern
+    // couples layers more than one apart (0 such entries).
+    std::vector<types::global_dof_index> anchors;
+    for (const auto &segment :
+         discretization.boundary_segments(BodyGeometry::curved_boundary_id))
+      for (const auto &node : segment.node_dofs)
+        anchors.insert(anchors.end(), node.begin(), node.end());
+    std::sort(anchors.begin(), anchors.end());
+    anchors.erase(std::unique(anchors.begin(), anchors.end()), anchors.end());
+    for (const unsigned int part : {0U, 1U})
+      {
+        const UnknownPartition<2> anchored(discretization, 2, part, anchors);
+        const auto               &layers = anchored.interface_layers();
+        CHECK_CLOSE_ABS(layers.size(), n, 0.);
+        double wrong_side = 0., jumps = 0., anchors_elsewhere = 0.;
+        double others_in_deepest = 0.;
+        int    nearest = 1 << 30, deepest = 0;
+        for (types::global_dof_index i = 0; i < layers.size(); ++i)
+          {
+            const int depth = part == 0 ? -layers[i] : layers[i] - 1;
+            wrong_side += depth < 0;
+            nearest = std::min(nearest, depth);
+            deepest = std::max(deepest, depth);
+            for (auto entry = pattern.begin(i); entry != pattern.end(i);
+                 ++entry)
+              jumps += std::abs(layers[i] - layers[entry->column()]) > 1;
+          }
+        for (types::global_dof_index i = 0; i < layers.size(); ++i)
+          {
+            const int  depth = part == 0 ? -layers[i] : layers[i] - 1;
+            const bool is_anchor =
+              std::binary_search(anchors.begin(), anchors.end(), i);
+            anchors_elsewhere += is_anchor && depth != deepest;
+            others_in_deepest += !is_anchor && depth == deepest;
+          }
+        std::cout << discretization.name() << ", whole in part " << part
+                  << " with " << anchors.size() << " anchors: layers 0 to "
+                  << deepest
+                  << " from the farthest, couplings across more than one "
+                  << "layer " << jumps << std::endl;
+        CHECK_CLOSE_ABS(wrong_side, 0., 0.);
+        CHECK_CLOSE_ABS(nearest, 0., 0.);
+        CHECK_TRUE(deepest > 3 && deepest < (1 << 29));
+        CHECK_CLOSE_ABS(anchors_elsewhere, 0., 0.);
+        CHECK_CLOSE_ABS(others_in_deepest, 0., 0.);
+        CHECK_CLOSE_ABS(jumps, 0., 0.);
+      }
   }
 
   void

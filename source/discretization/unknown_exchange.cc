@@ -4,6 +4,7 @@
 #include <isoimpact/discretization/unknown_exchange.h>
 
 #include <algorithm>
+#include <array>
 
 using namespace dealii;
 
@@ -52,9 +53,14 @@ namespace isoimpact
       {
         // The band: the interface layers of each part, nearest first, up
         // to band_fraction of the part's unknowns.
-        balancing                = load_balancing;
-        const auto &layer        = partition.interface_layers();
-        const auto  layer_counts = [&](const unsigned int part) {
+        balancing         = load_balancing;
+        const auto &layer = partition.interface_layers();
+        AssertThrow(layer.size() == n,
+                    ExcMessage("load balancing needs the partition's layers "
+                               "(a body whole on a rank: its anchors)"));
+        whole_body = partition.owned_unknowns(0).n_elements() == 0 ||
+                     partition.owned_unknowns(1).n_elements() == 0;
+        const auto layer_counts = [&](const unsigned int part) {
           std::vector<std::size_t> counts;
           for (types::global_dof_index i = 0; i < n; ++i)
             {
@@ -344,6 +350,94 @@ namespace isoimpact
       next_split = present_split;
     else
       last_move_observation = n_observations;
+  }
+
+  bool
+  UnknownExchange::balances_whole_body() const
+  {
+    return balancing != LoadBalancing::off && whole_body;
+  }
+
+  void
+  UnknownExchange::observe_pass_times(
+    const std::vector<UnknownExchange *> &exchanges,
+    const std::vector<double>            &seconds)
+  {
+    if (exchanges.empty())
+      return;
+    AssertDimension(seconds.size(), 2);
+    auto &first = *exchanges[0];
+    if (first.balancing == LoadBalancing::sweep)
+      {
+        for (auto *exchange : exchanges)
+          exchange->observe_pass_times(seconds);
+        return;
+      }
+    // Each rank's rows over all bodies, and its averaged time per row (the
+    // state kept in the first exchange, as in observe_pass_times()).
+    std::array<double, 2> rows = {{0., 0.}};
+    for (const auto *exchange : exchanges)
+      for (unsigned int p = 0; p < 2; ++p)
+        rows[p] += exchange->owned_by_rank[p].size();
+    for (auto *exchange : exchanges)
+      exchange->next_split = exchange->present_split;
+    if (++first.n_observations <= 5)
+      return;
+    constexpr double weight = 0.05;
+    for (unsigned int p = 0; p < 2; ++p)
+      {
+        const double cost = seconds[p] / std::max(rows[p], 1.);
+        first.cost_per_row[p] =
+          (first.n_observations == 6) ?
+            cost :
+            first.cost_per_row[p] + weight * (cost - first.cost_per_row[p]);
+      }
+    for (auto *exchange : exchanges)
+      exchange->cost_per_row = first.cost_per_row;
+    const auto &cost = first.cost_per_row;
+    if (!(cost[0] > 0. && cost[1] > 0.) ||
+        first.n_observations < first.last_move_observation + 20)
+      return;
+    // The positions of a cursor over the bands of all bodies in turn (each
+    // from its min_split to its max_split): rank 0's rows at each, and the
+    // splits there. The least predicted time max(c0 n0, c1 n1), moved to
+    // only if it saves 2 %.
+    const double total     = rows[0] + rows[1];
+    const auto   predicted = [&](const double rows_0) {
+      return std::max(cost[0] * rows_0, cost[1] * (total - rows_0));
+    };
+    // Rank 0's rows with every body at its min_split.
+    double rows_0 = rows[0];
+    for (const auto *exchange : exchanges)
+      for (int s = exchange->present_split; s > exchange->min_split; --s)
+        rows_0 -= exchange->layer_lists[s - exchange->min_split].size();
+    const double     present = predicted(rows[0]);
+    double           best    = present;
+    std::vector<int> best_splits, splits;
+    for (const auto *exchange : exchanges)
+      splits.push_back(exchange->min_split);
+    const auto consider = [&]() {
+      if (predicted(rows_0) < best)
+        {
+          best        = predicted(rows_0);
+          best_splits = splits;
+        }
+    };
+    consider();
+    for (std::size_t e = 0; e < exchanges.size(); ++e)
+      for (int s = exchanges[e]->min_split + 1; s <= exchanges[e]->max_split;
+           ++s)
+        {
+          rows_0 +=
+            exchanges[e]->layer_lists[s - exchanges[e]->min_split].size();
+          splits[e] = s;
+          consider();
+        }
+    if (best_splits.empty() || best > 0.98 * present)
+      return;
+    first.last_move_observation = first.n_observations;
+    for (std::size_t e = 0; e < exchanges.size(); ++e)
+      exchanges[e]->next_split = best_splits[e];
   }
 
   void

@@ -18,9 +18,10 @@ namespace isoimpact
 {
   template <int dim>
   UnknownPartition<dim>::UnknownPartition(
-    const Discretization<dim> &discretization,
-    const unsigned int         n_parts,
-    const unsigned int         whole_in_part)
+    const Discretization<dim>                  &discretization,
+    const unsigned int                          n_parts,
+    const unsigned int                          whole_in_part,
+    const std::vector<types::global_dof_index> &anchors)
   {
     const auto        &mesh    = discretization.triangulation();
     const unsigned int n_cells = mesh.n_active_cells();
@@ -125,8 +126,9 @@ namespace isoimpact
       }
 
     // Two parts: breadth-first layers from the interface, each part's
-    // within itself (a shortest path to the other part crosses none).
-    if (n_parts == 2 && !whole)
+    // within itself (a shortest path to the other part crosses none); a
+    // body whole in one part: from the anchors, within the body.
+    if (n_parts == 2 && (!whole || !anchors.empty()))
       {
         std::vector<std::vector<unsigned int>>            cells_of(n_unknowns);
         std::vector<std::vector<types::global_dof_index>> unknowns_of(n_cells);
@@ -141,19 +143,31 @@ namespace isoimpact
         constexpr int                        unset = interface_layer_unreached;
         std::vector<int>                     distance(n_unknowns, unset);
         std::vector<types::global_dof_index> front, next;
-        for (unsigned int c = 0; c < n_cells; ++c)
-          {
-            bool both = false;
-            for (const auto i : unknowns_of[c])
-              both |= unknown_owners[i] != unknown_owners[unknowns_of[c][0]];
-            if (both)
+        if (whole)
+          for (const auto i : anchors)
+            {
+              AssertIndexRange(i, n_unknowns);
+              if (distance[i] == unset)
+                {
+                  distance[i] = 0;
+                  front.push_back(i);
+                }
+            }
+        else
+          for (unsigned int c = 0; c < n_cells; ++c)
+            {
+              bool both = false;
               for (const auto i : unknowns_of[c])
-                if (distance[i] == unset)
-                  {
-                    distance[i] = 0;
-                    front.push_back(i);
-                  }
-          }
+                both |= unknown_owners[i] != unknown_owners[unknowns_of[c][0]];
+              if (both)
+                for (const auto i : unknowns_of[c])
+                  if (distance[i] == unset)
+                    {
+                      distance[i] = 0;
+                      front.push_back(i);
+                    }
+            }
+        int deepest = 0;
         for (int d = 1; !front.empty(); ++d)
           {
             next.clear();
@@ -165,9 +179,15 @@ namespace isoimpact
                     {
                       distance[j] = d;
                       next.push_back(j);
+                      deepest = d;
                     }
             front.swap(next);
           }
+        // Whole: the farthest unknowns next to the (virtual) interface.
+        if (whole)
+          for (auto &d : distance)
+            if (d != unset)
+              d = deepest - d;
         layers.resize(n_unknowns);
         for (types::global_dof_index i = 0; i < n_unknowns; ++i)
           layers[i] = unknown_owners[i] == 0 ?

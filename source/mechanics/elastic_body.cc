@@ -181,15 +181,22 @@ namespace isoimpact
       {
         const unsigned int n_ranks =
           Utilities::MPI::n_mpi_processes(ranks->communicator);
-        partition.emplace(disc, n_ranks, ranks->whole_on_rank);
-        // Load balancing needs the fused lumped step on owned rows.
+        // Load balancing needs the fused lumped step on owned rows. A body
+        // whole on a rank: the other rank may take its layers farthest
+        // from the contact surface (counted from the shared unknowns).
         const bool fused_step_possible =
           scheme != MassScheme::consistent && !ranks->whole_state &&
           !ranks->shared_rows && only_zero_constraints(body_constraints);
         const bool balancing =
           fused_step_possible && n_ranks == 2 &&
-          ranks->whole_on_rank == numbers::invalid_unsigned_int &&
-          ranks->load_balancing != LoadBalancing::off;
+          ranks->load_balancing != LoadBalancing::off &&
+          (ranks->whole_on_rank == numbers::invalid_unsigned_int ||
+           !ranks->shared.empty());
+        partition.emplace(disc,
+                          n_ranks,
+                          ranks->whole_on_rank,
+                          balancing ? ranks->shared :
+                                      std::vector<types::global_dof_index>());
         row_exchange            = UnknownExchange(*partition,
                                        ranks->communicator,
                                        ranks->shared,
@@ -258,12 +265,13 @@ namespace isoimpact
       owned_rows ? owned_rows->rows : complete_index_set(disc.n_dofs());
     if (owned_rows)
       row_cells = owned_rows->cells;
-    // A rank that builds no row of this body (the body whole on another
-    // rank) keeps no stiffness at all: a pattern of the body's size would
-    // hold a row start and a diagonal entry for every unknown.
-    const bool builds_no_rows =
-      owned_rows && owned_rows->rows.n_elements() == 0 && !band_rows;
-    if (!builds_no_rows)
+    // A rank that owns no row of this body (the body whole on another
+    // rank) keeps no stiffness of its own: a pattern of the body's size
+    // would hold a row start and a diagonal entry for every unknown. With
+    // load balancing it keeps the band's rows in pairs (below).
+    const bool owns_no_rows = owned_rows && owned_rows->rows.n_elements() == 0;
+    const bool builds_no_rows = owns_no_rows && !band_rows;
+    if (!owns_no_rows)
       {
         make_sparsity_pattern(disc,
                               body_constraints,
@@ -339,7 +347,8 @@ namespace isoimpact
       {
         SparsityPattern      band_pattern;
         SparseMatrix<double> band_stiffness;
-        std::size_t          n_entries = stiffness.n_nonzero_elements();
+        std::size_t          n_entries =
+          stiffness.empty() ? 0 : stiffness.n_nonzero_elements();
         if (band_rows)
           {
             make_sparsity_pattern(disc,
@@ -354,12 +363,25 @@ namespace isoimpact
                                       &*band_rows);
             n_entries += band_stiffness.n_nonzero_elements();
           }
-        std::vector<const SparseMatrix<double> *> parts = {&stiffness};
+        std::vector<const SparseMatrix<double> *> parts;
+        if (!stiffness.empty())
+          parts.push_back(&stiffness);
         if (band_rows)
           parts.push_back(&band_stiffness);
         paired_stiffness.build(parts);
         if (paired_stiffness.n_stored_entries() > 1.25 * n_entries)
           paired_stiffness = PairedRows();
+        // Bodies whole on ranks with load balancing: the rank's matrix is
+        // read no more (the pass, the power estimate and the Gershgorin
+        // bound read the pairs), and the other body's band is built next
+        // (Scene: the own body first) in the room it leaves.
+        if (row_exchange.balances_whole_body() && !paired_stiffness.empty() &&
+            !stiffness.empty())
+          {
+            stiffness.clear();
+            sparsity_pattern.reinit(0, 0, 0);
+            malloc_trim(0);
+          }
       }
     if (band_rows && paired_stiffness.empty())
       {
@@ -400,8 +422,9 @@ namespace isoimpact
     body_constraints.distribute(velocity);
 
     // A rank with no row of this body reads its contact surface only: the
-    // mapping's cache and the unknowns' numbering on the cells go.
-    if (builds_no_rows)
+    // mapping's cache and the unknowns' numbering on the cells go (the band
+    // of load balancing is in the pairs; the owner visits every cell).
+    if (builds_no_rows || (owns_no_rows && !paired_stiffness.empty()))
       discretization_ptr->release_cell_unknowns();
   }
 
@@ -445,6 +468,13 @@ namespace isoimpact
   ElasticBody<dim>::stiffness_matrix() const
   {
     return stiffness;
+  }
+
+  template <int dim>
+  const PairedRows &
+  ElasticBody<dim>::paired_stiffness_rows() const
+  {
+    return paired_stiffness;
   }
 
   template <int dim>
@@ -925,6 +955,10 @@ namespace isoimpact
     // scene, the same steps).
     partial[0]->row_exchange.sum(sums);
     std::size_t k = 0;
+    // Bodies whole on ranks: one split for all, from each rank's time over
+    // all its rows.
+    std::vector<UnknownExchange *> whole_bodies;
+    std::vector<double>            whole_body_seconds;
     for (auto *body : partial)
       {
         body->step_energies             = {sums[k], sums[k + 1]};
@@ -932,12 +966,22 @@ namespace isoimpact
         k += 2;
         if (body->row_exchange.balances_load())
           {
-            const unsigned int n = body->row_exchange.n_ranks();
-            body->row_exchange.observe_pass_times(
-              std::vector<double>(sums.begin() + k, sums.begin() + k + n));
+            const unsigned int        n = body->row_exchange.n_ranks();
+            const std::vector<double> seconds(sums.begin() + k,
+                                              sums.begin() + k + n);
             k += n;
+            if (!body->row_exchange.balances_whole_body())
+              {
+                body->row_exchange.observe_pass_times(seconds);
+                continue;
+              }
+            whole_bodies.push_back(&body->row_exchange);
+            whole_body_seconds.resize(n, 0.);
+            for (unsigned int p = 0; p < n; ++p)
+              whole_body_seconds[p] += seconds[p];
           }
       }
+    UnknownExchange::observe_pass_times(whole_bodies, whole_body_seconds);
   }
 
   template <int dim>

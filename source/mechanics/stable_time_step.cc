@@ -352,11 +352,17 @@ namespace isoimpact
     if (lumped)
       {
         const auto &stiffness = body.stiffness_matrix();
+        // (Released after set-up with load balancing of whole bodies: then
+        // the pairs, whose rows have the matrix's entries in its order and
+        // zeros, which add nothing.)
+        const auto &pairs     = body.paired_stiffness_rows();
+        const bool  use_pairs = stiffness.empty() && !pairs.empty();
         const auto &mass      = body.lumped_masses();
         double      lambda    = 0.;
         // (No stiffness on a rank that owns no row of the body.)
         const types::global_dof_index n_rows =
-          stiffness.empty() ? 0 : stiffness.m();
+          use_pairs ? 2 * pairs.n_pairs() :
+                      (stiffness.empty() ? 0 : stiffness.m());
         for (types::global_dof_index i = 0; i < n_rows; ++i)
           {
             // Massless unknowns (mass redistribution) are not part of the
@@ -370,13 +376,18 @@ namespace isoimpact
             // in cells); only the surface's rows have them.
             double     row_sum = 0.;
             const auto springs = spring_rows.row(i);
-            for (auto entry = stiffness.begin(i); entry != stiffness.end(i);
-                 ++entry)
+            const auto add     = [&](const types::global_dof_index column,
+                                 const double                  value) {
               row_sum += std::abs(
-                entry->value() +
-                (springs ?
-                   SurfaceSpringRows::bound(*springs, i, entry->column()) :
-                   0.));
+                value +
+                (springs ? SurfaceSpringRows::bound(*springs, i, column) : 0.));
+            };
+            if (use_pairs)
+              pairs.for_each_entry(i, add);
+            else
+              for (auto entry = stiffness.begin(i); entry != stiffness.end(i);
+                   ++entry)
+                add(entry->column(), entry->value());
             lambda = std::max(lambda, row_sum / mass(i));
           }
         result.gershgorin_bound =

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <sstream>
 #include <tuple>
@@ -454,7 +455,15 @@ namespace isoimpact
     // (glibc keeps freed small blocks, and large arrays take fresh pages).
     malloc_trim(0);
 
-    for (unsigned int b = 0; b < parameters.n_bodies(); ++b)
+    // Bodies whole on ranks: each rank builds its own body first, whose
+    // matrix it then releases with load balancing (ElasticBody), and the
+    // band of the other body in the room it leaves.
+    std::vector<unsigned int> order(parameters.n_bodies());
+    std::iota(order.begin(), order.end(), 0u);
+    if (bodies_on_ranks)
+      std::rotate(order.begin(), order.begin() + world_rank(), order.end());
+    scene.bodies.resize(parameters.n_bodies());
+    for (const unsigned int b : order)
       {
         const auto                  &body = parameters.bodies[b];
         std::vector<RollerCondition> rollers;
@@ -490,14 +499,14 @@ namespace isoimpact
                                             ranks->shared.end()),
                                 ranks->shared.end());
           }
-        scene.bodies.push_back(
+        scene.bodies[b] =
           std::make_unique<ElasticBody<2>>("body" + std::to_string(b + 1),
                                            std::move(discretization),
                                            body.material,
                                            parameters.mass_scheme,
                                            rollers,
                                            body.initial_velocity,
-                                           ranks ? &*ranks : nullptr));
+                                           ranks ? &*ranks : nullptr);
         malloc_trim(0); // the body's temporaries, as above
       }
 

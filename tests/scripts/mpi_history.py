@@ -115,20 +115,34 @@ for case in sys.argv[4:]:
              edits.get("Contact/Mass redistribution", "false") == "false")
     check_true(f"{label}: bodies whole on ranks: {whole} expected",
                parallel_summary["bodies_whole_on_ranks"] == whole)
+    # Bodies whole on ranks: body b on rank b - 1, unless load balancing
+    # gave the other rank some of its layers farthest from the contact
+    # surface: at most the band (15 % of the body, or one layer).
+    balancing = edits.get("Parallel/Load balancing", "measured")
     for b, split in enumerate(splits):
         owned = split["owned_unknowns_per_rank"]
+        if not whole:
+            expected = min(owned) > 0 and sum(owned) == split["unknowns"]
+        elif balancing == "off":
+            expected = owned == [split["unknowns"] if r == b else 0
+                                 for r in range(ranks)]
+        else:
+            expected = (sum(owned) == split["unknowns"] and
+                        owned[b] >= 0.8 * split["unknowns"])
         check_true(f"{label}: {split['body']}: owned unknowns per rank {owned}",
-                   owned == [split["unknowns"] if r == b else 0 for r in range(ranks)]
-                   if whole else min(owned) > 0 and sum(owned) == split["unknowns"])
-    balancing = edits.get("Parallel/Load balancing", "measured")
-    for split in splits:
+                   expected)
+    for b, split in enumerate(splits):
         if balancing in ("off", "sweep"):
             check_true(f"{label}: {split['body']}: load balancing {balancing}",
                        split["load_balancing"] == (balancing == "sweep"))
         if balancing == "sweep":
+            # Split: layers on both sides of the interface; whole: the band
+            # of the body, on its owner's side only.
             low, high = split["split_bounds_layers"]
-            check_true(f"{label}: {split['body']}: the band has layers on both sides "
-                       f"({low}, {high})", low < 0 < high)
+            sides = (low < 0 < high if not whole else
+                     (low < 0 == high if b == 0 else low == 0 < high))
+            check_true(f"{label}: {split['body']}: the band's layers "
+                       f"({low}, {high})", sides)
             check_close(f"{label}: {split['body']}: moves of the sweep",
                         split["moves"], parallel_summary["steps"] - 1, 0)
             check_close(f"{label}: {split['body']}: owned unknowns of the ranks add up to "

@@ -95,6 +95,19 @@ namespace isoimpact
     // rows (seconds, in rank order; the same values on every rank).
     void
     observe_pass_times(const std::vector<double> &seconds);
+    // Whether the partition put every unknown in one part (a body whole on
+    // a rank): its split is chosen with the other such bodies'.
+    bool
+    balances_whole_body() const;
+    // Bodies whole on ranks (balances_whole_body()): the next splits of
+    // all of them at once from each rank's time of this step's passes over
+    // all its rows (seconds, in rank order). A rank's time per row is
+    // measured over all its bodies; the other rank takes the layers of the
+    // first bodies' bands first (only one body is split at a time when
+    // each band lies in one part).
+    static void
+    observe_pass_times(const std::vector<UnknownExchange *> &exchanges,
+                       const std::vector<double>            &seconds);
     // Moves the rows to the split observe_pass_times() chose: their entries
     // of `state` (each vector whole-sized) go to their new owner, and the
     // ghost lists follow. Nothing to do if the split is unchanged.
@@ -166,7 +179,8 @@ namespace isoimpact
     // others (owner_of). The shared unknowns with their layers. The
     // controller: the mean time per owned row of each rank (exponential
     // average).
-    LoadBalancing balancing = LoadBalancing::off;
+    LoadBalancing balancing  = LoadBalancing::off;
+    bool          whole_body = false;
     int min_split = 0, max_split = 0, present_split = 0, next_split = 0,
         sweep_direction                                             = 1;
     unsigned int                                              moves = 0;

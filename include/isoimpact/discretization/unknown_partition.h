@@ -23,7 +23,10 @@ namespace isoimpact
    *
    * With `whole_in_part` < n_parts every cell goes to that part and the
    * others own nothing: a body whole on one rank (Parallel/Distribution),
-   * which the other ranks see through its shared unknowns only.
+   * which the other ranks see through its shared unknowns only. Then,
+   * with two parts and `anchors` (the contact surface's unknowns), the
+   * layers of interface_layers() count from the unknowns farthest from the
+   * anchors: the rows the other rank may take lie far from the contact.
    */
   template <int dim>
   class UnknownPartition
@@ -32,7 +35,8 @@ namespace isoimpact
     UnknownPartition(
       const Discretization<dim> &discretization,
       const unsigned int         n_parts,
-      const unsigned int whole_in_part = dealii::numbers::invalid_unsigned_int);
+      const unsigned int whole_in_part = dealii::numbers::invalid_unsigned_int,
+      const std::vector<dealii::types::global_dof_index> &anchors = {});
 
     unsigned int
     n_parts() const;
@@ -78,7 +82,9 @@ namespace isoimpact
      * another split of the same kind, whose ghosts are layer s + 1 and
      * layer s (UnknownExchange's load balancing). An unknown of a part
      * that does not touch the other keeps the largest magnitude
-     * (interface_layer_unreached). Empty for a body whole in one part.
+     * (interface_layer_unreached). For a body whole in one part with
+     * anchors: D - d for part 1 (1 + D - d) and -(D - d) for part 0, with
+     * d the distance from the anchors and D the largest; else empty.
      */
     const std::vector<int>                      &
     interface_layers() const;

@@ -43,8 +43,9 @@ namespace isoimpact
     // between the ranks at run time (UnknownExchange).
     LoadBalancing load_balancing = LoadBalancing::off;
     // A rank of `communicator` that owns the whole body (the others read
-    // its shared unknowns only; no load balancing), or invalid: the body
-    // split over all ranks.
+    // its shared unknowns only; with load balancing on 2 ranks the other
+    // may take the layers farthest from them), or invalid: the body split
+    // over all ranks.
     unsigned int whole_on_rank = dealii::numbers::invalid_unsigned_int;
   };
 
@@ -89,6 +90,10 @@ namespace isoimpact
     // On several ranks: the rows of this rank's unknowns only.
     const dealii::SparseMatrix<double> &
     stiffness_matrix() const;
+    // Its rows in pairs (empty if they do not pair up): with load balancing
+    // of bodies whole on ranks the matrix itself is released after set-up.
+    const PairedRows &
+    paired_stiffness_rows() const;
     dealii::types::global_dof_index
     n_dofs() const;
 

@@ -70,6 +70,18 @@ namespace isoimpact
       return block_values.size();
     }
 
+    // Whether pair p's rows are stored.
+    bool
+    stores_pair(const std::size_t p) const
+    {
+      return !pair_start.empty() && pair_start[p + 1] > pair_start[p];
+    }
+    // f(column, value) for every stored entry of row i (its pair stored),
+    // in the order of the matrix's row: the diagonal first, then the other
+    // columns ascending (padded zeros included).
+    template <typename Function>
+    void
+    for_each_entry(const std::size_t i, const Function &f) const;
     // (K u)_{2p} and (K u)_{2p+1}, for a pair whose rows are stored.
     inline void
     products(const std::size_t p,
@@ -162,6 +174,26 @@ namespace isoimpact
   }
 #endif
 
+
+  template <typename Function>
+  void
+  PairedRows::for_each_entry(const std::size_t i, const Function &f) const
+  {
+    const std::size_t p = i / 2, r = i % 2;
+    const auto [begin, middle, end, pairs, values, d] = pair(p);
+    f(i, d[r]);
+    const auto blocks = [&](const std::size_t from, const std::size_t to) {
+      for (std::size_t b = from; b < to; ++b)
+        {
+          const std::size_t column = 2 * std::size_t(pairs[b]);
+          f(column, values[4 * b + r]);
+          f(column + 1, values[4 * b + 2 + r]);
+        }
+    };
+    blocks(begin, middle);
+    f(r == 0 ? i + 1 : i - 1, d[2 + r]);
+    blocks(middle, end);
+  }
 
   inline void
   PairedRows::products(const std::size_t p,
