@@ -119,7 +119,26 @@ def run(program, prm, work, ranks, threads):
               f"{peak_lines[-500:]}", file=sys.stderr)
     return (summary["wall_time_parts_s"]["time_loop"] / summary["steps"],
             max(rss) if rss else float("nan"),
-            max(anonymous.values()) if anonymous else float("nan"), summary["unknowns"])
+            max(anonymous.values()) if anonymous else float("nan"), summary["unknowns"],
+            summary.get("rank_splits", []))
+
+
+def describe_splits(splits):
+    """The load balancing of a run on 2 ranks: each body's final split
+    (layers; its bounds), its moves, and the ranks' averaged pass times per
+    row that chose it."""
+    parts = []
+    for split in splits:
+        if not split.get("load_balancing"):
+            continue
+        low, high = split["split_bounds_layers"]
+        per_row = "/".join(f"{1e9 * c:.1f}" for c in split["pass_time_per_row_s"])
+        parts.append(f"{split['body']} split {split['split_layers']} of [{low}, {high}], "
+                     f"{split['moves']} moves, owned {split['owned_unknowns_per_rank']}")
+    if parts and splits[0].get("pass_time_per_row_s"):
+        parts.append("ns per row " + "/".join(
+            f"{1e9 * c:.1f}" for c in splits[0]["pass_time_per_row_s"]))
+    return "; ".join(parts)
 
 
 def bandwidth(build, ranks):
@@ -171,6 +190,7 @@ def main():
           "| speed-up vs 1 x 1 | speed-up (paired median) | peak memory per process [MB] | memory vs 1 x 1 "
           "| peak anonymous memory per process [MB] | anonymous vs 1 x 1 |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    notes = []
     with tempfile.TemporaryDirectory() as work:
         for method, (prm, levels) in CASES.items():
             chosen = levels[:1] if args.quick else levels[1:] if args.fine else levels
@@ -190,12 +210,16 @@ def main():
                 times = {name: [] for name, _, _ in CONFIGS}
                 memory, anonymous = {}, {}
                 unknowns = 0
+                balancing = []
                 for _ in range(args.repeats):
                     for name, ranks, threads in CONFIGS:
-                        step, rss, anon, unknowns = run(program, edited, work, ranks, threads)
+                        step, rss, anon, unknowns, splits = run(program, edited, work, ranks,
+                                                                threads)
                         times[name].append(step)
                         memory[name] = rss
                         anonymous[name] = anon
+                        if ranks == 2 and describe_splits(splits):
+                            balancing.append(f"{1e3 * step:.2f} ms: {describe_splits(splits)}")
                 base = statistics.median(times[CONFIGS[0][0]])
                 for name, _, _ in CONFIGS:
                     median = statistics.median(times[name])
@@ -207,6 +231,11 @@ def main():
                           f"{memory[name] / memory[CONFIGS[0][0]]:.2f} | "
                           f"{anonymous[name] / 1e6:.0f} | "
                           f"{anonymous[name] / anonymous[CONFIGS[0][0]]:.2f} |", flush=True)
+                # (After the table: the load balancing of each 2-rank run.)
+                notes.extend(f"- {method} level {level}, 2 ranks, {line}" for line in balancing)
+    if notes:
+        print()
+        print("\n".join(notes))
 
 
 if __name__ == "__main__":

@@ -197,11 +197,18 @@ namespace isoimpact
                           ranks->whole_on_rank,
                           balancing ? ranks->shared :
                                       std::vector<types::global_dof_index>());
+        // The band: 15 % of each part at an interface (split bodies); 30 %
+        // of a body whole on a rank, whose band the other rank builds in
+        // the room its own matrix leaves (the ranks' times per row differed
+        // by up to 39 % for whole runs here, doc/parallel.md, session 31).
+        const bool whole_body =
+          ranks->whole_on_rank != numbers::invalid_unsigned_int;
         row_exchange            = UnknownExchange(*partition,
                                        ranks->communicator,
                                        ranks->shared,
                                        balancing ? ranks->load_balancing :
-                                                              LoadBalancing::off);
+                                                              LoadBalancing::off,
+                                       whole_body ? 0.30 : 0.15);
         const unsigned int rank = row_exchange.this_rank();
         // The rows: those the rank may own (with load balancing, the
         // band of the other rank's rows too), and with shared_rows the

@@ -281,7 +281,7 @@ namespace isoimpact
       Patterns::Selection("measured|off|sweep"),
       "On 2 MPI ranks with lumped mass: the rows near the ranks' interface "
       "(bodies split), or a body's rows farthest from its contact surface "
-      "(bodies whole on ranks, up to 15 % of the body), "
+      "(bodies whole on ranks, up to 30 % of the body), "
       "move between them at run time towards equal times per step "
       "(measured), stay where the partition put them (off), or move one "
       "layer per step back and forth (sweep: a check of the machinery). "
