@@ -299,57 +299,8 @@ namespace isoimpact
           std::clamp(present_split + sweep_direction, min_split, max_split);
         return;
       }
-    // The time per owned row of each rank, averaged over about twenty
-    // steps (the first five, with their page faults, left out).
-    if (++n_observations <= 5)
-      return;
-    constexpr double weight = 0.05;
-    for (unsigned int p = 0; p < 2; ++p)
-      {
-        const double cost =
-          seconds[p] / std::max<std::size_t>(owned_by_rank[p].size(), 1);
-        cost_per_row[p] = (n_observations == 6) ?
-                            cost :
-                            cost_per_row[p] + weight * (cost - cost_per_row[p]);
-      }
-    next_split = present_split;
-    if (!(cost_per_row[0] > 0. && cost_per_row[1] > 0.) ||
-        n_observations < last_move_observation + 20)
-      return;
-    // The split of the least predicted time max(c0 n0, c1 n1); moved to
-    // only if it saves 2 % (the times of single steps scatter by more than
-    // a layer's share, which is about 0.5 % at 1e6 unknowns).
-    const auto predicted = [&](const double rows_0) {
-      const double rows_1 =
-        double(owned_by_rank[0].size() + owned_by_rank[1].size()) - rows_0;
-      return std::max(cost_per_row[0] * rows_0, cost_per_row[1] * rows_1);
-    };
-    const double present = predicted(owned_by_rank[0].size());
-    double       best    = present;
-    double       rows_0  = owned_by_rank[0].size();
-    for (int s = present_split + 1; s <= max_split; ++s)
-      {
-        rows_0 += layer_lists[s - min_split].size();
-        if (predicted(rows_0) < best)
-          {
-            best       = predicted(rows_0);
-            next_split = s;
-          }
-      }
-    rows_0 = owned_by_rank[0].size();
-    for (int s = present_split; s > min_split; --s)
-      {
-        rows_0 -= layer_lists[s - min_split].size();
-        if (predicted(rows_0) < best)
-          {
-            best       = predicted(rows_0);
-            next_split = s - 1;
-          }
-      }
-    if (best > 0.98 * present)
-      next_split = present_split;
-    else
-      last_move_observation = n_observations;
+    // Measured: the joint rule with this body alone.
+    observe_pass_times(std::vector<UnknownExchange *>{this}, seconds);
   }
 
   bool
@@ -373,8 +324,9 @@ namespace isoimpact
           exchange->observe_pass_times(seconds);
         return;
       }
-    // Each rank's rows over all bodies, and its averaged time per row (the
-    // state kept in the first exchange, as in observe_pass_times()).
+    // Each rank's rows over all bodies, and its time per row averaged over
+    // about twenty steps (the first five, with their page faults, left
+    // out; the state kept in the first exchange).
     std::array<double, 2> rows = {{0., 0.}};
     for (const auto *exchange : exchanges)
       for (unsigned int p = 0; p < 2; ++p)
@@ -401,7 +353,8 @@ namespace isoimpact
     // The positions of a cursor over the bands of all bodies in turn (each
     // from its min_split to its max_split): rank 0's rows at each, and the
     // splits there. The least predicted time max(c0 n0, c1 n1), moved to
-    // only if it saves 2 %.
+    // only if it saves 2 % (the times of single steps scatter by more than
+    // a layer's share, which is about 0.5 % at 1e6 unknowns).
     const double total     = rows[0] + rows[1];
     const auto   predicted = [&](const double rows_0) {
       return std::max(cost[0] * rows_0, cost[1] * (total - rows_0));

@@ -70,12 +70,6 @@ namespace isoimpact
       return block_values.size();
     }
 
-    // Whether pair p's rows are stored.
-    bool
-    stores_pair(const std::size_t p) const
-    {
-      return !pair_start.empty() && pair_start[p + 1] > pair_start[p];
-    }
     // f(column, value) for every stored entry of row i (its pair stored),
     // in the order of the matrix's row: the diagonal first, then the other
     // columns ascending (padded zeros included).
