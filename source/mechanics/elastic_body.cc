@@ -10,6 +10,7 @@
 
 #include <malloc.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <random>
@@ -602,8 +603,10 @@ namespace isoimpact
     Vector<double> &f,
     Vector<double> &half_step_velocity,
     const double    dt,
-    const bool      form_whole_step_state)
+    const bool      form_whole_step_state,
+    const bool      advance_displacement_ahead)
   {
+    displacement_ahead_velocity = nullptr;
     if (!fused_lumped_step || replicated_state)
       {
         // Resets step_energies: the separate functions compute them.
@@ -626,10 +629,22 @@ namespace isoimpact
       {
         // Load balancing: the pass's time decides the next split.
         const auto start = std::chrono::steady_clock::now();
+        double    *ahead = nullptr;
+        if (advance_displacement_ahead)
+          {
+            if (displacement_ahead.size() != displacement.size())
+              displacement_ahead.reinit(displacement.size());
+            ahead = displacement_ahead.data();
+          }
         if (form_whole_step_state)
-          fused_step<true, true>(f, half_step_velocity, dt);
+          fused_step<true, true>(f, half_step_velocity, dt, ahead);
         else
-          fused_step<false, true>(f, half_step_velocity, dt);
+          fused_step<false, true>(f, half_step_velocity, dt, ahead);
+        if (ahead != nullptr)
+          {
+            displacement_ahead_step     = dt;
+            displacement_ahead_velocity = &half_step_velocity;
+          }
         last_pass_seconds = std::chrono::duration<double>(
                               std::chrono::steady_clock::now() - start)
                               .count();
@@ -644,7 +659,8 @@ namespace isoimpact
   void
   ElasticBody<dim>::restart_steps()
   {
-    velocity_of_mass_product = nullptr;
+    velocity_of_mass_product    = nullptr;
+    displacement_ahead_velocity = nullptr;
   }
 
   template <int dim>
@@ -700,7 +716,8 @@ namespace isoimpact
   void
   ElasticBody<dim>::fused_step(Vector<double> &f,
                                Vector<double> &half_step_velocity,
-                               const double    dt)
+                               const double    dt,
+                               double         *u_ahead)
   {
     // Row by row, or two rows at a time (paired_stiffness): (K u)_i as
     // deal.II's vmult sums it (the same bits), then
@@ -729,12 +746,21 @@ namespace isoimpact
     double       *a      = acceleration.data();
     double       *v      = velocity.data();
     double       *vh     = half_step_velocity.data();
-    // On several ranks the rows of the owned unknowns (in ascending order).
-    const types::global_dof_index *rows =
-      owned_rows_only ? row_exchange.owned_unknowns().data() : nullptr;
-    const std::size_t n = owned_rows_only ?
-                            row_exchange.owned_unknowns().size() :
-                            displacement.size();
+    // On several ranks the owned unknowns, as ranges of rows (ascending);
+    // the energies' blocks count them in this order.
+    const auto       &ranges = row_exchange.owned_ranges();
+    const std::size_t n      = owned_rows_only ?
+                                 row_exchange.owned_unknowns().size() :
+                                 displacement.size();
+    // Where each range starts in the count of owned unknowns.
+    std::vector<std::size_t> range_offsets;
+    if constexpr (owned_rows_only)
+      {
+        range_offsets.reserve(ranges.size() + 1);
+        range_offsets.push_back(0);
+        for (const auto &[first, end] : ranges)
+          range_offsets.push_back(range_offsets.back() + (end - first));
+      }
     stiffness_times_u.reinit(0); // not computed: see above
 
     // One row's step, its product ku at hand.
@@ -749,6 +775,8 @@ namespace isoimpact
             v[i] = previous + 0.5 * dt * ai;
           }
         vh[i] = previous + dt * ai;
+        if (u_ahead != nullptr)
+          u_ahead[i] = u[i] + dt * vh[i]; // advance_range()'s operations
         sums.kinetic += previous * mass[i] * vh[i];
         sums.strain += u[i] * ku;
       };
@@ -770,59 +798,85 @@ namespace isoimpact
           ku += values[j] * u[columns[j]];
       return ku;
     };
+    // The rows [first, end), in pairs where both rows are among them.
+    const auto step_rows = [&](const std::size_t first,
+                               const std::size_t end,
+                               StepEnergies     &sums) {
+      for (std::size_t i = first; i < end;)
+        {
+          if (pairs && i % 2 == 0 && i + 1 < end)
+            {
+#ifdef __SSE2__
+              // row_step() of both rows lane by lane (the same
+              // operations, the same bits), the energies' terms added
+              // row 2p's first.
+              const __m128d ku   = paired_stiffness.packed_products(i / 2, u);
+              const __m128d zero = _mm_setzero_pd();
+              const __m128d inverse = _mm_loadu_pd(w + i);
+              const __m128d ai      = _mm_andnot_pd(
+                _mm_cmpeq_pd(inverse, zero),
+                _mm_mul_pd(_mm_sub_pd(_mm_loadu_pd(force + i), ku), inverse));
+              _mm_storeu_pd(force + i, zero);
+              const __m128d previous = _mm_loadu_pd(vh + i);
+              if constexpr (form_whole_step_state)
+                {
+                  _mm_storeu_pd(a + i, ai);
+                  _mm_storeu_pd(v + i,
+                                _mm_add_pd(previous,
+                                           _mm_mul_pd(_mm_set1_pd(0.5 * dt),
+                                                      ai)));
+                }
+              const __m128d next =
+                _mm_add_pd(previous, _mm_mul_pd(_mm_set1_pd(dt), ai));
+              _mm_storeu_pd(vh + i, next);
+              const __m128d own_u = _mm_loadu_pd(u + i);
+              if (u_ahead != nullptr)
+                _mm_storeu_pd(u_ahead + i,
+                              _mm_add_pd(own_u,
+                                         _mm_mul_pd(_mm_set1_pd(dt), next)));
+              const __m128d kinetic =
+                _mm_mul_pd(_mm_mul_pd(previous, _mm_loadu_pd(mass + i)), next);
+              const __m128d strain = _mm_mul_pd(own_u, ku);
+              sums.kinetic += _mm_cvtsd_f64(kinetic);
+              sums.strain += _mm_cvtsd_f64(strain);
+              sums.kinetic += _mm_cvtsd_f64(_mm_unpackhi_pd(kinetic, kinetic));
+              sums.strain += _mm_cvtsd_f64(_mm_unpackhi_pd(strain, strain));
+#else
+              double ku_first, ku_second;
+              paired_stiffness.products(i / 2, u, ku_first, ku_second);
+              row_step(i, ku_first, sums);
+              row_step(i + 1, ku_second, sums);
+#endif
+              i += 2;
+              continue;
+            }
+          row_step(i, row_product(i), sums);
+          ++i;
+        }
+    };
     StepEnergies energies = sum_over_blocks(
       n,
       block_energies,
       [&](const std::size_t begin, const std::size_t end, StepEnergies &sums) {
-        for (std::size_t k = begin; k < end;)
+        if constexpr (!owned_rows_only)
+          step_rows(begin, end, sums);
+        else
           {
-            const std::size_t i = owned_rows_only ? std::size_t(rows[k]) : k;
-            if (pairs && i % 2 == 0 && k + 1 < end &&
-                (!owned_rows_only || rows[k + 1] == i + 1))
+            // The owned unknowns begin to end of the count: the ranges'
+            // pieces in turn (a pair spans no gap between ranges).
+            std::size_t r = std::upper_bound(range_offsets.begin(),
+                                             range_offsets.end(),
+                                             begin) -
+                            range_offsets.begin() - 1;
+            for (std::size_t k = begin; k < end; ++r)
               {
-#ifdef __SSE2__
-                // row_step() of both rows lane by lane (the same
-                // operations, the same bits), the energies' terms added
-                // row 2p's first.
-                const __m128d ku   = paired_stiffness.packed_products(i / 2, u);
-                const __m128d zero = _mm_setzero_pd();
-                const __m128d inverse = _mm_loadu_pd(w + i);
-                const __m128d ai      = _mm_andnot_pd(
-                  _mm_cmpeq_pd(inverse, zero),
-                  _mm_mul_pd(_mm_sub_pd(_mm_loadu_pd(force + i), ku), inverse));
-                _mm_storeu_pd(force + i, zero);
-                const __m128d previous = _mm_loadu_pd(vh + i);
-                if constexpr (form_whole_step_state)
-                  {
-                    _mm_storeu_pd(a + i, ai);
-                    _mm_storeu_pd(v + i,
-                                  _mm_add_pd(previous,
-                                             _mm_mul_pd(_mm_set1_pd(0.5 * dt),
-                                                        ai)));
-                  }
-                const __m128d next =
-                  _mm_add_pd(previous, _mm_mul_pd(_mm_set1_pd(dt), ai));
-                _mm_storeu_pd(vh + i, next);
-                const __m128d kinetic =
-                  _mm_mul_pd(_mm_mul_pd(previous, _mm_loadu_pd(mass + i)),
-                             next);
-                const __m128d strain = _mm_mul_pd(_mm_loadu_pd(u + i), ku);
-                sums.kinetic += _mm_cvtsd_f64(kinetic);
-                sums.strain += _mm_cvtsd_f64(strain);
-                sums.kinetic +=
-                  _mm_cvtsd_f64(_mm_unpackhi_pd(kinetic, kinetic));
-                sums.strain += _mm_cvtsd_f64(_mm_unpackhi_pd(strain, strain));
-#else
-                double ku_first, ku_second;
-                paired_stiffness.products(i / 2, u, ku_first, ku_second);
-                row_step(i, ku_first, sums);
-                row_step(i + 1, ku_second, sums);
-#endif
-                k += 2;
-                continue;
+                const std::size_t piece_end =
+                  std::min(end, range_offsets[r + 1]);
+                const std::size_t first =
+                  ranges[r].first + (k - range_offsets[r]);
+                step_rows(first, first + (piece_end - k), sums);
+                k = piece_end;
               }
-            row_step(i, row_product(i), sums);
-            ++k;
           }
       });
     // Constrained unknowns do not count (as in the separate functions);
@@ -897,6 +951,15 @@ namespace isoimpact
     if (!row_exchange.is_distributed() || replicated_state)
       {
         displacement.add(dt, half_step_velocity);
+        return;
+      }
+    if (displacement_ahead_velocity == &half_step_velocity &&
+        displacement_ahead_step == dt)
+      {
+        // Formed by the last pass: its owned entries are those of the
+        // update below; the ghosts come from their owners as ever.
+        displacement.swap(displacement_ahead);
+        displacement_ahead_velocity = nullptr;
         return;
       }
     for (const auto &[first, end] : row_exchange.owned_ranges())

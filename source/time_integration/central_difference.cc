@@ -186,7 +186,10 @@ namespace isoimpact
             half_step_velocity[b],
             dt,
             // energy_balance() reads the bipenalty's acceleration.
-            form_whole_step_state || bipenalty);
+            form_whole_step_state || bipenalty,
+            // Several ranks: the next displacement ahead, in the pass (the
+            // velocity does not change before the next step's update).
+            !boundary && !bipenalty);
         };
         // The bodies' steps touch only their own data. On one process they
         // run side by side: while a consistent mass solve is in the root

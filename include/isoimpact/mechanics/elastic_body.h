@@ -117,13 +117,21 @@ namespace isoimpact
      * needs only v^{n+1/2}, and the two writes cost 5 % of a lumped step at
      * 1e6 unknowns (doc/performance.md). Everything else has the same bits
      * either way.
+     *
+     * advance_displacement_ahead (several ranks, the fused pass): the pass
+     * also forms u + dt v^{n+3/2} of the owned rows, the next step's
+     * displacement, while the row is at hand; the next
+     * advance_displacement() with the same dt and velocity vector takes it
+     * instead of a pass of its own (the same bits). The caller must not
+     * change the velocity in between.
      */
     void
     compute_acceleration_and_velocities(
       dealii::Vector<double> &f,
       dealii::Vector<double> &half_step_velocity,
       const double            dt,
-      const bool              form_whole_step_state = true);
+      const bool              form_whole_step_state      = true,
+      const bool              advance_displacement_ahead = false);
 
     // A new run of steps (CentralDifference::initialize()): the consistent
     // mass's M v^{n+1/2} carried between steps is formed again by the next
@@ -274,7 +282,8 @@ namespace isoimpact
     bool
     state_is_replicated() const;
     // u += dt v: on one process the whole displacement; on several ranks
-    // the owned entries (the ghosts must then come from their owners).
+    // the owned entries (the ghosts must then come from their owners),
+    // taken from the last pass if it formed them ahead.
     void
     advance_displacement(const dealii::Vector<double> &half_step_velocity,
                          const double                  dt);
@@ -334,11 +343,13 @@ namespace isoimpact
     // compute_acceleration_and_velocities() with lumped mass: the
     // product K u and the pass of lumped_step_pass() fused row by row.
     // owned_rows_only: the rows of the unknowns this rank owns.
+    // u_ahead: where the pass writes u + dt v^{n+3/2} (or nullptr).
     template <bool form_whole_step_state, bool owned_rows_only>
     void
     fused_step(dealii::Vector<double> &f,
                dealii::Vector<double> &half_step_velocity,
-               const double            dt);
+               const double            dt,
+               double                 *u_ahead = nullptr);
     void
     solve_mass(dealii::Vector<double>       &a,
                const dealii::Vector<double> &f) const;
@@ -389,8 +400,13 @@ namespace isoimpact
     // whatever the threads).
     mutable std::optional<StepEnergies> step_energies;
     // On several ranks: step_energies holds this rank's part only.
-    mutable bool                      step_energies_are_partial = false;
-    double                            last_pass_seconds         = 0.;
+    mutable bool step_energies_are_partial = false;
+    double       last_pass_seconds         = 0.;
+    // The next displacement the pass formed ahead, the step and the
+    // velocity vector it belongs to (none: nullptr).
+    dealii::Vector<double>            displacement_ahead;
+    double                            displacement_ahead_step     = 0.;
+    const dealii::Vector<double>     *displacement_ahead_velocity = nullptr;
     mutable std::vector<StepEnergies> block_energies;
     // The consistent mass: M v^{n+1/2} and the vector it belongs to (see
     // advance_velocity_with_mass_times_velocity()).
