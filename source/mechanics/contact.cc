@@ -348,6 +348,24 @@ namespace isoimpact
       nodes.resize(segments.size());
       hull_boxes.resize(segments.size());
       boxes.clear();
+      // The step's pass has just streamed the whole state through the
+      // caches: the segments' arrays and their entries of u (scattered
+      // through a vector much larger than the caches) are far. Ask for all
+      // of them at once, so that their misses overlap instead of coming
+      // one after another below (no arithmetic changes).
+      for (unsigned int s = 0; s < segments.size(); ++s)
+        {
+          const auto &segment = segments[s];
+          __builtin_prefetch(segment.node_dofs.data());
+          __builtin_prefetch(segment.node_positions.data());
+          __builtin_prefetch(segment.node_weights.data());
+          if (!segment.bernstein_coefficients.empty())
+            __builtin_prefetch(&segment.bernstein_coefficients(0, 0));
+          __builtin_prefetch(nodes[s].data(), 1);
+        }
+      for (const auto &segment : segments)
+        for (const auto &dofs : segment.node_dofs)
+          __builtin_prefetch(u.data() + dofs[0]);
       for (unsigned int s = 0; s < segments.size(); ++s)
         {
           const auto &segment = segments[s];
