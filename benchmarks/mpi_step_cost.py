@@ -16,11 +16,13 @@ least), and the memory per process:
   ranks share them;
 - peak anonymous resident memory (RssAnon of /proc/PID/status, read every
   0.25 s while the run lasts): the process's own data, what a further rank
-  adds. (Read every 20 ms, the polling took about 8 % of a core: it slowed
-  the 2-rank runs, which need both cores and wait for the slower rank,
-  more than the others. A transient shorter than 0.25 s, such as the
-  initial acceleration's product, may be missed; heaptrack gives the exact
-  peak heap, doc/parallel.md.)
+  adds. It is read in one more run of each configuration, not timed: the
+  polling shares the two cores with the runs, and it slows the 2-rank runs,
+  which need both cores and wait for the slower rank at every step, more
+  than the others (read every 20 ms it took about 8 % of a core). A
+  transient shorter than 0.25 s, such as the initial acceleration's
+  product, may be missed; heaptrack gives the exact peak heap,
+  doc/parallel.md.
 
 usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--steps 200]
                                           [--build build] [--mass HRZ|consistent]
@@ -86,7 +88,7 @@ def peak_anonymous_memory(top_pid, program, stop, peaks):
         time.sleep(0.25)
 
 
-def run(program, prm, work, ranks, threads):
+def run(program, prm, work, ranks, threads, poll_memory=False):
     out = os.path.join(work, "out")
     shutil.rmtree(out, ignore_errors=True)
     # Each process appends its line to a file of its own lines (on stderr
@@ -105,10 +107,12 @@ def run(program, prm, work, ranks, threads):
     stop, anonymous = threading.Event(), {}
     poller = threading.Thread(target=peak_anonymous_memory,
                               args=(process.pid, program, stop, anonymous))
-    poller.start()
+    if poll_memory:
+        poller.start()
     stdout, stderr = process.communicate()
     stop.set()
-    poller.join()
+    if poll_memory:
+        poller.join()
     if process.returncode != 0:
         sys.exit(f"{' '.join(command)} failed:\n{stdout[-2000:]}\n{stderr[-2000:]}")
     summary = json.load(open(os.path.join(out, "summary.json")))
@@ -213,13 +217,16 @@ def main():
                 balancing = []
                 for _ in range(args.repeats):
                     for name, ranks, threads in CONFIGS:
-                        step, rss, anon, unknowns, splits = run(program, edited, work, ranks,
+                        step, rss, _, unknowns, splits = run(program, edited, work, ranks,
                                                                 threads)
                         times[name].append(step)
                         memory[name] = rss
-                        anonymous[name] = anon
                         if ranks == 2 and describe_splits(splits):
                             balancing.append(f"{1e3 * step:.2f} ms: {describe_splits(splits)}")
+                # The anonymous memory in runs of its own (see above).
+                for name, ranks, threads in CONFIGS:
+                    anonymous[name] = run(program, edited, work, ranks, threads,
+                                          poll_memory=True)[2]
                 base = statistics.median(times[CONFIGS[0][0]])
                 for name, _, _ in CONFIGS:
                     median = statistics.median(times[name])
