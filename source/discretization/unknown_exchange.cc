@@ -138,11 +138,7 @@ namespace isoimpact
     ghosts = ghosts_of[rank];
     for (const auto i : owned_by_rank[rank])
       owned_here[i] = 1;
-    for (const auto i : owned_by_rank[rank])
-      if (!ranges.empty() && ranges.back().second == i)
-        ++ranges.back().second;
-      else
-        ranges.emplace_back(i, i + 1);
+    set_up_ranges();
     for (unsigned int p = 0; p < n_procs; ++p)
       {
         if (p == rank)
@@ -177,17 +173,9 @@ namespace isoimpact
       }
     for (types::global_dof_index i = 0; i < owner_of.size(); ++i)
       owned_by_rank[owner_of[i]].push_back(i);
-    ranges.clear();
     for (types::global_dof_index i = 0; i < owner_of.size(); ++i)
-      {
-        owned_here[i] = owner_of[i] == rank;
-        if (!owned_here[i])
-          continue;
-        if (!ranges.empty() && ranges.back().second == i)
-          ++ranges.back().second;
-        else
-          ranges.emplace_back(i, i + 1);
-      }
+      owned_here[i] = owner_of[i] == rank;
+    set_up_ranges();
     // Rank 0 reads layer present_split + 1 of rank 1, rank 1 layer
     // present_split of rank 0, both the shared unknowns the other owns.
     const auto needs_of = [&](const unsigned int p) {
@@ -443,6 +431,29 @@ namespace isoimpact
     present_split = next_split;
     ++moves;
     set_up_split();
+  }
+
+  void
+  UnknownExchange::set_up_ranges()
+  {
+    ranges.clear();
+    for (types::global_dof_index i = 0; i < owned_here.size(); ++i)
+      if (owned_here[i] == 0)
+        continue;
+      else if (!ranges.empty() && ranges.back().second == i)
+        ++ranges.back().second;
+      else
+        ranges.emplace_back(i, i + 1);
+    range_offsets.assign(1, 0);
+    range_offsets.reserve(ranges.size() + 1);
+    for (const auto &[first, end] : ranges)
+      range_offsets.push_back(range_offsets.back() + (end - first));
+  }
+
+  const std::vector<types::global_dof_index> &
+  UnknownExchange::owned_range_offsets() const
+  {
+    return range_offsets;
   }
 
   const std::vector<types::global_dof_index> &

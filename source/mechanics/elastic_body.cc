@@ -753,14 +753,7 @@ namespace isoimpact
                                  row_exchange.owned_unknowns().size() :
                                  displacement.size();
     // Where each range starts in the count of owned unknowns.
-    std::vector<std::size_t> range_offsets;
-    if constexpr (owned_rows_only)
-      {
-        range_offsets.reserve(ranges.size() + 1);
-        range_offsets.push_back(0);
-        for (const auto &[first, end] : ranges)
-          range_offsets.push_back(range_offsets.back() + (end - first));
-      }
+    const auto &range_offsets = row_exchange.owned_range_offsets();
     stiffness_times_u.reinit(0); // not computed: see above
 
     // One row's step, its product ku at hand.
@@ -871,7 +864,7 @@ namespace isoimpact
             for (std::size_t k = begin; k < end; ++r)
               {
                 const std::size_t piece_end =
-                  std::min(end, range_offsets[r + 1]);
+                  std::min<std::size_t>(end, range_offsets[r + 1]);
                 const std::size_t first =
                   ranges[r].first + (k - range_offsets[r]);
                 step_rows(first, first + (piece_end - k), sums);

@@ -83,6 +83,10 @@ namespace isoimpact
     const std::vector<std::pair<dealii::types::global_dof_index,
                                 dealii::types::global_dof_index>> &
     owned_ranges() const;
+    // Where each owned range starts in the count of owned unknowns, and the
+    // count last (owned_ranges().size() + 1 entries).
+    const std::vector<dealii::types::global_dof_index> &
+    owned_range_offsets() const;
     // The rows this rank may own (sorted): the rows of the stiffness to
     // build (the owned ones without load balancing).
     std::vector<dealii::types::global_dof_index>
@@ -165,7 +169,8 @@ namespace isoimpact
     std::vector<unsigned char>                   cells_here; // several ranks
     std::vector<std::pair<dealii::types::global_dof_index,
                           dealii::types::global_dof_index>>
-      ranges;
+                                                 ranges;
+    std::vector<dealii::types::global_dof_index> range_offsets;
     // Per peer rank: the entries sent to it and received from it, sorted.
     std::vector<unsigned int>                                 peers;
     std::vector<std::vector<dealii::types::global_dof_index>> send_lists,
@@ -195,6 +200,9 @@ namespace isoimpact
     // Lists, ranges and counts for the present split.
     void
     set_up_split();
+    // ranges and range_offsets from owned_here.
+    void
+    set_up_ranges();
     // Posts the receives and sends of `vector` (tag `tag`) into `requests`
     // with buffers of its own; finish_update() unpacks after the wait.
     void
