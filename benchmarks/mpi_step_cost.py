@@ -127,10 +127,13 @@ def run(program, prm, work, ranks, threads, poll_memory=False):
             summary.get("rank_splits", []))
 
 
-def describe_splits(splits):
+def describe_splits(splits, step):
     """The load balancing of a run on 2 ranks: each body's final split
-    (layers; its bounds), its moves, and the ranks' averaged pass times per
-    row that chose it."""
+    (layers; its bounds), its moves, the ranks' averaged pass times per
+    row that chose it, and each rank's pass per step from them (the sum over
+    the bodies of time per row x owned rows; averaged over about the last
+    twenty steps) against the run's time per step `step` (s): what is left
+    is the rank's work outside the pass and its waiting."""
     parts = []
     for split in splits:
         if not split.get("load_balancing"):
@@ -142,6 +145,11 @@ def describe_splits(splits):
     if parts and splits[0].get("pass_time_per_row_s"):
         parts.append("ns per row " + "/".join(
             f"{1e9 * c:.1f}" for c in splits[0]["pass_time_per_row_s"]))
+        passes = [sum(split["pass_time_per_row_s"][p] * split["owned_unknowns_per_rank"][p]
+                      for split in splits if split.get("pass_time_per_row_s"))
+                  for p in range(2)]
+        parts.append("pass per step " + "/".join(f"{1e3 * t:.2f}" for t in passes) +
+                     f" ms of {1e3 * step:.2f} ms")
     return "; ".join(parts)
 
 
@@ -221,8 +229,8 @@ def main():
                                                                 threads)
                         times[name].append(step)
                         memory[name] = rss
-                        if ranks == 2 and describe_splits(splits):
-                            balancing.append(f"{1e3 * step:.2f} ms: {describe_splits(splits)}")
+                        if ranks == 2 and describe_splits(splits, step):
+                            balancing.append(f"{1e3 * step:.2f} ms: {describe_splits(splits, step)}")
                 # The anonymous memory in runs of its own (see above).
                 for name, ranks, threads in CONFIGS:
                     anonymous[name] = run(program, edited, work, ranks, threads,
