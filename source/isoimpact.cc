@@ -217,6 +217,14 @@ namespace isoimpact
             << "own unknowns (body 1: "
             << scene.bodies[0]->exchange().owned_unknowns().size()
             << " on rank 0)\n";
+    if (n_ranks > 1)
+      pcout << "  the ranks "
+            << (integrator->ranks_meet_at_every_step() ?
+                  "meet at every step (consistent mass, hanging nodes, "
+                  "mass redistribution, bipenalty or contact damping)\n" :
+                  "need not meet at every step: each sends the displacement "
+                  "the others read from its pass, and the energies are "
+                  "summed one step late\n");
     if (parameters.mass_redistribution)
       {
         pcout << "  mass redistribution: massless contact surfaces (";
@@ -497,6 +505,12 @@ namespace isoimpact
       integrator = std::make_unique<CentralDifference<2>>(scene.body_pointers(),
                                                           scene.interactions,
                                                           time_step);
+      // Several ranks that meet at every step share the contact's
+      // projections; ranks that need not meet each project every point
+      // rather than wait for the others' (doc/parallel.md, session 34).
+      if (n_world_ranks() > 1 && integrator->ranks_meet_at_every_step())
+        for (auto &contact : scene.contacts)
+          contact->distribute_points(MPI_COMM_WORLD);
     }
     print_setup();
     {
@@ -580,14 +594,15 @@ namespace isoimpact
     for (auto *body : scene.body_pointers())
       body->gather_state();
     RunFacts facts;
-    facts.time_step           = time_step;
-    facts.stable              = stable;
-    facts.n_steps             = integrator->step_number();
-    facts.wall_time           = wall_clock.wall_time();
-    facts.setup_wall_time     = setup_time;
-    facts.time_loop_wall_time = loop_time;
-    facts.output_wall_time    = output_time;
-    facts.total_wall_time     = std::chrono::duration<double>(
+    facts.time_step                = time_step;
+    facts.stable                   = stable;
+    facts.ranks_meet_at_every_step = integrator->ranks_meet_at_every_step();
+    facts.n_steps                  = integrator->step_number();
+    facts.wall_time                = wall_clock.wall_time();
+    facts.setup_wall_time          = setup_time;
+    facts.time_loop_wall_time      = loop_time;
+    facts.output_wall_time         = output_time;
+    facts.total_wall_time          = std::chrono::duration<double>(
                               std::chrono::steady_clock::now() - start_of_run)
                               .count();
     if (const auto *boundary = integrator->quasi_static_boundary())

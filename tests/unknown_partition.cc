@@ -44,6 +44,13 @@
 //    of bodies whole on ranks): layers from the unknowns farthest from the
 //    anchors, every unknown reached, the anchors alone in the deepest
 //    layer, no coupling across more than one layer.
+// 9. UnknownExchange's halves (ranks that need not meet at every step,
+//    doc/parallel.md session 34): three ghost updates started from the
+//    values of sent_unknowns() and completed later (the sends alternate
+//    between two buffers) give every ghost its owner's value exactly (0
+//    difference), as update_ghost_values() does; a sum started and
+//    completed later equals sum() bit for bit and the exact sum of the
+//    ranks' numbers.
 #include <deal.II/base/mpi.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
@@ -54,6 +61,7 @@
 
 #include <isoimpact/discretization/discretization_fea.h>
 #include <isoimpact/discretization/discretization_iga.h>
+#include <isoimpact/discretization/unknown_exchange.h>
 #include <isoimpact/discretization/unknown_partition.h>
 #include <isoimpact/mechanics/assembly.h>
 
@@ -538,6 +546,58 @@ namespace
     CHECK_TRUE(moved > n / 4);
     CHECK_CLOSE_ABS(differences, 0., 0.);
   }
+
+  // (9) above.
+  void
+  check_exchange_halves(const Discretization<2> &discretization,
+                        const MPI_Comm           communicator)
+  {
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+    const UnknownPartition<2> partition(discretization, n_ranks);
+    const UnknownExchange     exchange(partition, communicator, {});
+    const auto value = [](const std::size_t i, const unsigned int round) {
+      return std::sin(0.37 * i + round) * 1e-3;
+    };
+    UnknownExchange::UpdateUnderWay update;
+    double                          difference = 0.;
+    std::size_t                     n_ghosts = exchange.ghost_unknowns().size();
+    for (unsigned int round = 0; round < 3; ++round)
+      {
+        std::vector<double> sent;
+        for (const auto i : exchange.sent_unknowns())
+          sent.push_back(value(i, round));
+        Vector<double> u(discretization.n_dofs());
+        exchange.start_ghost_update(sent, 4900, update);
+        exchange.complete_ghost_update(u, update);
+        Vector<double> expected(discretization.n_dofs());
+        for (const auto i : exchange.owned_unknowns())
+          expected(i) = value(i, round);
+        exchange.update_ghost_values(expected);
+        for (const auto i : exchange.ghost_unknowns())
+          difference = std::max({difference,
+                                 std::abs(u(i) - value(i, round)),
+                                 std::abs(expected(i) - value(i, round))});
+      }
+    difference                 = Utilities::MPI::max(difference, communicator);
+    std::vector<double> halves = {double(exchange.this_rank() + 1),
+                                  value(exchange.this_rank(), 7)},
+                        whole  = halves;
+    UnknownExchange::SumUnderWay sum;
+    exchange.start_sum(halves, sum);
+    exchange.sum(whole);
+    exchange.complete_sum(sum, halves);
+    std::cout << discretization.name() << " on " << n_ranks
+              << " ranks: ghosts of three updates in halves differ by "
+              << difference << " (" << n_ghosts
+              << " ghosts on this rank); the sums in halves and at once "
+              << halves[0] << ", " << halves[1] << " and " << whole[0] << ", "
+              << whole[1] << std::endl;
+    CHECK_CLOSE_ABS(difference, 0., 0.);
+    CHECK_TRUE(n_ranks == 1 ||
+               Utilities::MPI::sum(double(n_ghosts), communicator) > 0);
+    CHECK_CLOSE_ABS(halves[0], n_ranks * (n_ranks + 1) / 2., 0.);
+    CHECK_CLOSE_ABS(halves[1], whole[1], 0.);
+  }
 } // namespace
 
 int
@@ -550,6 +610,7 @@ main(int argc, char **argv)
       check_distributed_product(*make_discretization(iga, 3), MPI_COMM_WORLD);
       check_row_selection(*make_discretization(iga, 3), MPI_COMM_WORLD);
       check_renumbering(iga);
+      check_exchange_halves(*make_discretization(iga, 3), MPI_COMM_WORLD);
     }
   return isoimpact_tests::report();
 }

@@ -156,6 +156,8 @@ namespace isoimpact
         send_lists.push_back(std::move(to_send));
         receive_lists.push_back(std::move(to_receive));
       }
+    for (const auto &list : send_lists)
+      all_sent.insert(all_sent.end(), list.begin(), list.end());
   }
 
   void
@@ -192,6 +194,7 @@ namespace isoimpact
     peers         = {1 - rank};
     send_lists    = {needs_of(1 - rank)};
     receive_lists = {ghosts};
+    all_sent      = send_lists[0];
   }
 
   bool
@@ -600,21 +603,151 @@ namespace isoimpact
   {
     if (n_procs == 1)
       return;
-    // Gathered and summed in the ranks' order: the same bits everywhere.
-    std::vector<double> all(values.size() * n_procs);
-    const int           ierr = MPI_Allgather(values.data(),
-                                   values.size(),
-                                   MPI_DOUBLE,
-                                   all.data(),
-                                   values.size(),
-                                   MPI_DOUBLE,
-                                   comm);
+    SumUnderWay under_way;
+    start_sum(values, under_way);
+    complete_sum(under_way, values);
+  }
+
+  namespace
+  {
+    // Whether MPI may still be called (messages under way at the end).
+    bool
+    mpi_is_running()
+    {
+      int initialized = 0, finalized = 0;
+      MPI_Initialized(&initialized);
+      MPI_Finalized(&finalized);
+      return initialized != 0 && finalized == 0;
+    }
+  } // namespace
+
+  UnknownExchange::UpdateUnderWay::~UpdateUnderWay()
+  {
+    if (!mpi_is_running())
+      return;
+    for (auto &requests : send_requests)
+      MPI_Waitall(requests.size(), requests.data(), MPI_STATUSES_IGNORE);
+    if (started)
+      MPI_Waitall(receive_requests.size(),
+                  receive_requests.data(),
+                  MPI_STATUSES_IGNORE);
+  }
+
+  UnknownExchange::SumUnderWay::~SumUnderWay()
+  {
+    if (started && mpi_is_running())
+      MPI_Wait(&request, MPI_STATUS_IGNORE);
+  }
+
+  const std::vector<types::global_dof_index> &
+  UnknownExchange::sent_unknowns() const
+  {
+    return all_sent;
+  }
+
+  void
+  UnknownExchange::start_ghost_update(const std::vector<double> &values,
+                                      const int                  tag,
+                                      UpdateUnderWay            &update) const
+  {
+    AssertThrow(!update.started,
+                ExcMessage("a ghost update is under way already"));
+    AssertDimension(values.size(), all_sent.size());
+    if (peers.empty())
+      return;
+    // The sends of two updates ago, whose buffer is reused: long taken.
+    update.last_sends   = 1 - update.last_sends;
+    auto &sends         = update.sends[update.last_sends];
+    auto &send_requests = update.send_requests[update.last_sends];
+    int   ierr          = MPI_Waitall(send_requests.size(),
+                           send_requests.data(),
+                           MPI_STATUSES_IGNORE);
     AssertThrowMPI(ierr);
+    send_requests.assign(peers.size(), MPI_REQUEST_NULL);
+    update.receive_requests.assign(peers.size(), MPI_REQUEST_NULL);
+    sends.resize(peers.size());
+    update.receives.resize(peers.size());
+    for (unsigned int k = 0; k < peers.size(); ++k)
+      {
+        update.receives[k].resize(receive_lists[k].size());
+        ierr = MPI_Irecv(update.receives[k].data(),
+                         update.receives[k].size(),
+                         MPI_DOUBLE,
+                         peers[k],
+                         tag,
+                         comm,
+                         &update.receive_requests[k]);
+        AssertThrowMPI(ierr);
+      }
+    std::size_t first = 0;
+    for (unsigned int k = 0; k < peers.size(); ++k)
+      {
+        sends[k].assign(values.begin() + first,
+                        values.begin() + first + send_lists[k].size());
+        first += send_lists[k].size();
+        ierr = MPI_Isend(sends[k].data(),
+                         sends[k].size(),
+                         MPI_DOUBLE,
+                         peers[k],
+                         tag,
+                         comm,
+                         &send_requests[k]);
+        AssertThrowMPI(ierr);
+      }
+    update.started = true;
+  }
+
+  void
+  UnknownExchange::complete_ghost_update(Vector<double> &vector,
+                                         UpdateUnderWay &update) const
+  {
+    if (!update.started)
+      return;
+    const int ierr = MPI_Waitall(update.receive_requests.size(),
+                                 update.receive_requests.data(),
+                                 MPI_STATUSES_IGNORE);
+    AssertThrowMPI(ierr);
+    update.started = false;
+    finish_update(vector, update.receives);
+  }
+
+  void
+  UnknownExchange::start_sum(const std::vector<double> &values,
+                             SumUnderWay               &sum) const
+  {
+    AssertThrow(!sum.started, ExcMessage("a sum is under way already"));
+    sum.own = values;
+    if (n_procs == 1)
+      return;
+    sum.all.resize(values.size() * n_procs);
+    const int ierr = MPI_Iallgather(sum.own.data(),
+                                    sum.own.size(),
+                                    MPI_DOUBLE,
+                                    sum.all.data(),
+                                    sum.own.size(),
+                                    MPI_DOUBLE,
+                                    comm,
+                                    &sum.request);
+    AssertThrowMPI(ierr);
+    sum.started = true;
+  }
+
+  void
+  UnknownExchange::complete_sum(SumUnderWay         &sum,
+                                std::vector<double> &values) const
+  {
+    values = sum.own;
+    if (!sum.started)
+      return;
+    const int ierr = MPI_Wait(&sum.request, MPI_STATUS_IGNORE);
+    AssertThrowMPI(ierr);
+    sum.started = false;
+    // Gathered and summed in the ranks' order: the same bits everywhere.
     for (std::size_t j = 0; j < values.size(); ++j)
       {
-        values[j] = all[j];
+        values[j] = sum.all[j];
         for (unsigned int p = 1; p < n_procs; ++p)
-          values[j] += all[p * values.size() + j];
+          values[j] += sum.all[p * values.size() + j];
       }
   }
 

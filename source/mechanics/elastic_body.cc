@@ -38,6 +38,10 @@ namespace isoimpact
       }
     };
 
+    // The messages of the displacement's ghosts sent ahead by the pass
+    // (every rank starts them in the order of the bodies).
+    constexpr int ghost_update_tag = 4811;
+
     // Whether every constraint is u_i = 0 (rollers; no hanging nodes): then
     // a lumped-mass step needs no condensation (the fused pass).
     bool
@@ -661,6 +665,7 @@ namespace isoimpact
   {
     velocity_of_mass_product    = nullptr;
     displacement_ahead_velocity = nullptr;
+    row_exchange.complete_ghost_update(displacement_ahead, ghosts_under_way);
   }
 
   template <int dim>
@@ -847,6 +852,25 @@ namespace isoimpact
           ++i;
         }
     };
+    // Several ranks, the next displacement ahead: first the rows that other
+    // ranks read, sent at once, so that they need not wait for the rest of
+    // the pass (row_step()'s operations: the same bits, checked below).
+    const auto &sent = row_exchange.sent_unknowns();
+    if constexpr (owned_rows_only)
+      if (u_ahead != nullptr)
+        {
+          sent_values.resize(sent.size());
+          for (std::size_t j = 0; j < sent.size(); ++j)
+            {
+              const std::size_t i  = sent[j];
+              const double      ku = row_product(i);
+              const double      ai = (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
+              sent_values[j]       = u[i] + dt * (vh[i] + dt * ai);
+            }
+          row_exchange.start_ghost_update(sent_values,
+                                          ghost_update_tag,
+                                          ghosts_under_way);
+        }
     StepEnergies energies = sum_over_blocks(
       n,
       block_energies,
@@ -885,8 +909,15 @@ namespace isoimpact
       }
     // The contact forces on the ghosts are their owners' to consume.
     if constexpr (owned_rows_only)
-      for (const auto i : row_exchange.ghost_unknowns())
-        force[i] = 0.;
+      {
+        for (const auto i : row_exchange.ghost_unknowns())
+          force[i] = 0.;
+        if (u_ahead != nullptr)
+          for (std::size_t j = 0; j < sent.size(); ++j)
+            AssertThrow(sent_values[j] == u_ahead[sent[j]],
+                        ExcMessage("the displacement sent ahead differs "
+                                   "from the pass's (same bits expected)"));
+      }
     energies.kinetic *= 0.5;
     energies.strain *= 0.5;
     step_energies             = energies;
@@ -946,15 +977,20 @@ namespace isoimpact
         displacement.add(dt, half_step_velocity);
         return;
       }
+    ghosts_received = false;
     if (displacement_ahead_velocity == &half_step_velocity &&
         displacement_ahead_step == dt)
       {
         // Formed by the last pass: its owned entries are those of the
-        // update below; the ghosts come from their owners as ever.
+        // update below; the ghosts the owners sent from their passes.
         displacement.swap(displacement_ahead);
         displacement_ahead_velocity = nullptr;
+        row_exchange.complete_ghost_update(displacement, ghosts_under_way);
+        ghosts_received = true;
         return;
       }
+    // (Ghosts sent ahead that are not needed.)
+    row_exchange.complete_ghost_update(displacement_ahead, ghosts_under_way);
     for (const auto &[first, end] : row_exchange.owned_ranges())
       advance_range(displacement.data(),
                     half_step_velocity.data(),
@@ -997,12 +1033,26 @@ namespace isoimpact
   ElasticBody<dim>::sum_step_energies(
     const std::vector<ElasticBody<dim> *> &bodies)
   {
-    std::vector<ElasticBody<dim> *> partial;
-    std::vector<double>             sums;
+    StepEnergiesSum under_way;
+    start_sum_of_step_energies(bodies, under_way);
+    complete_sum_of_step_energies(under_way, true);
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::start_sum_of_step_energies(
+    const std::vector<ElasticBody<dim> *> &bodies,
+    StepEnergiesSum                       &under_way)
+  {
+    under_way.bodies.clear();
+    std::vector<double> sums;
     for (auto *body : bodies)
       if (body->step_energies_are_partial)
         {
-          partial.push_back(body);
+          AssertThrow(!body->step_energies_under_way,
+                      ExcMessage("the body's energies are summed already"));
+          under_way.bodies.push_back(body);
+          body->step_energies_under_way = true;
           sums.push_back(body->step_energies->kinetic);
           sums.push_back(body->step_energies->strain);
           // Each rank's pass time in its own slot: the sum gathers them.
@@ -1012,20 +1062,37 @@ namespace isoimpact
                                body->last_pass_seconds :
                                0.);
         }
-    if (partial.empty())
-      return;
     // Every rank has the same bodies with partial energies (the same
     // scene, the same steps).
-    partial[0]->row_exchange.sum(sums);
+    if (!under_way.bodies.empty())
+      under_way.bodies[0]->row_exchange.start_sum(sums, under_way.sum);
+  }
+
+  template <int dim>
+  std::vector<typename ElasticBody<dim>::StepEnergies>
+  ElasticBody<dim>::complete_sum_of_step_energies(
+    StepEnergiesSum &under_way,
+    const bool       bodies_at_that_step)
+  {
+    std::vector<StepEnergies> summed;
+    if (under_way.bodies.empty())
+      return summed;
+    std::vector<double> sums;
+    under_way.bodies[0]->row_exchange.complete_sum(under_way.sum, sums);
     std::size_t k = 0;
     // Bodies whole on ranks: one split for all, from each rank's time over
     // all its rows.
     std::vector<UnknownExchange *> whole_bodies;
     std::vector<double>            whole_body_seconds;
-    for (auto *body : partial)
+    for (auto *body : under_way.bodies)
       {
-        body->step_energies             = {sums[k], sums[k + 1]};
-        body->step_energies_are_partial = false;
+        summed.push_back({sums[k], sums[k + 1]});
+        body->step_energies_under_way = false;
+        if (bodies_at_that_step)
+          {
+            body->step_energies             = summed.back();
+            body->step_energies_are_partial = false;
+          }
         k += 2;
         if (body->row_exchange.balances_load())
           {
@@ -1044,7 +1111,16 @@ namespace isoimpact
               whole_body_seconds[p] += seconds[p];
           }
       }
+    under_way.bodies.clear();
     UnknownExchange::observe_pass_times(whole_bodies, whole_body_seconds);
+    return summed;
+  }
+
+  template <int dim>
+  bool
+  ElasticBody<dim>::displacement_ghosts_received() const
+  {
+    return ghosts_received;
   }
 
   template <int dim>
@@ -1071,6 +1147,8 @@ namespace isoimpact
   {
     // Summed by this body alone if nobody summed them with the others'
     // (only mutable members change).
+    AssertThrow(!step_energies_under_way,
+                ExcMessage("the step's energies are being summed"));
     if (step_energies_are_partial)
       sum_step_energies({const_cast<ElasticBody<dim> *>(this)});
     return step_energies;

@@ -280,9 +280,10 @@ namespace isoimpact
                {"max_relative_residual", w.max_residual_ratio}};
       }
     // Several MPI ranks: each body's split at the end (load balancing).
-    summary["mpi_ranks"]             = n_world_ranks();
-    summary["bodies_whole_on_ranks"] = scene.bodies_on_ranks;
-    summary["rank_splits"]           = nlohmann::ordered_json::array();
+    summary["mpi_ranks"]                = n_world_ranks();
+    summary["bodies_whole_on_ranks"]    = scene.bodies_on_ranks;
+    summary["ranks_meet_at_every_step"] = facts.ranks_meet_at_every_step;
+    summary["rank_splits"]              = nlohmann::ordered_json::array();
     for (const auto &body : scene.bodies)
       {
         const UnknownExchange &exchange = body->exchange();

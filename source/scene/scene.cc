@@ -589,9 +589,6 @@ namespace isoimpact
         auto contact = std::make_unique<PenaltyContact<2>>(settings,
                                                            surfaces[0],
                                                            surfaces[1]);
-        // Several ranks: each projects its share of the Gauss points.
-        if (n_world_ranks() > 1)
-          contact->distribute_points(MPI_COMM_WORLD);
         scene.contacts.push_back(std::move(contact));
         scene.interactions.push_back({scene.contacts.back().get(), 0, 1});
         // Bipenalty: the critical mass penalty makes the contact's bound

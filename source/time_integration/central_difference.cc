@@ -54,9 +54,14 @@ namespace isoimpact
         {
           ghost_vectors.emplace_back(&bodies[b]->exchange(),
                                      &bodies[b]->displacement);
+          ghost_vector_displacement_of.push_back(b);
           if (damped_contact)
-            ghost_vectors.emplace_back(&bodies[b]->exchange(),
-                                       &half_step_velocity[b]);
+            {
+              ghost_vectors.emplace_back(&bodies[b]->exchange(),
+                                         &half_step_velocity[b]);
+              ghost_vector_displacement_of.push_back(
+                numbers::invalid_unsigned_int);
+            }
         }
     for (const auto &interaction : contacts)
       {
@@ -107,6 +112,13 @@ namespace isoimpact
                                                               forces,
                                                               results);
       }
+    // Several ranks that need not meet at every step: each body's pass sends
+    // what the others read, and the energies can wait.
+    loose_steps =
+      !bodies.empty() && !boundary && !bipenalty && !damped_contact &&
+      std::all_of(bodies.begin(), bodies.end(), [](const auto *body) {
+        return body->exchange().is_distributed() && body->step_zeroes_force();
+      });
     contacts_beside_displacement =
       !contacts.empty() && !boundary &&
       std::none_of(bodies.begin(), bodies.end(), [](const auto *body) {
@@ -223,6 +235,8 @@ namespace isoimpact
   CentralDifference<dim>::initialize(const bool record_contact_points)
   {
     kinetic_energy_of_step = std::numeric_limits<double>::quiet_NaN();
+    complete_energies_sum(false);
+    energy_of_step_before.reset();
     // The contact damping reads half_step_velocity: v^0 at t = 0.
     for (unsigned int b = 0; b < bodies.size(); ++b)
       {
@@ -278,19 +292,46 @@ namespace isoimpact
       }
     else
       {
+        // The ghosts of the displacement come with it if their owners sent
+        // them from the last pass; the others here. A move of the load
+        // balancing changes the ghosts: then all of them here.
+        bool moved = false;
         for (unsigned int b = 0; b < bodies.size(); ++b)
           {
             bodies[b]->advance_displacement(half_step_velocity[b], dt);
             // Load balancing: rows move between the ranks (collective).
+            const unsigned int moves = bodies[b]->exchange().n_moves();
             bodies[b]->apply_load_balancing(half_step_velocity[b]);
+            moved |= bodies[b]->exchange().n_moves() != moves;
           }
-        UnknownExchange::update_ghost_values(ghost_vectors);
+        std::vector<std::pair<const UnknownExchange *, Vector<double> *>>
+          to_update;
+        for (unsigned int v = 0; v < ghost_vectors.size(); ++v)
+          {
+            const unsigned int b = ghost_vector_displacement_of[v];
+            if (moved || b == numbers::invalid_unsigned_int ||
+                !bodies[b]->displacement_ghosts_received())
+              to_update.push_back(ghost_vectors[v]);
+          }
+        UnknownExchange::update_ghost_values(to_update);
         compute_accelerations(record_contact_points,
                               true,
                               form_whole_step_state);
       }
-    // The bodies' step energies summed over the ranks in one message.
-    ElasticBody<dim>::sum_step_energies(bodies);
+    // The bodies' step energies summed over the ranks in one message; where
+    // the ranks need not meet at every step, the sum of the step before is
+    // completed now (the other ranks are past it) and this step's started.
+    if (loose_steps)
+      {
+        complete_energies_sum(false);
+        ElasticBody<dim>::start_sum_of_step_energies(bodies,
+                                                     energies_under_way);
+        contact_energy_under_way = 0.;
+        for (const auto &result : results)
+          contact_energy_under_way += result.energy;
+      }
+    else
+      ElasticBody<dim>::sum_step_energies(bodies);
     for (const auto &result : results)
       contact_damping_work += dt * result.damping_power;
     ++step;
@@ -319,11 +360,49 @@ namespace isoimpact
   }
 
   template <int dim>
+  void
+  CentralDifference<dim>::complete_energies_sum(
+    const bool bodies_at_that_step) const
+  {
+    if (energies_under_way.bodies.empty())
+      return;
+    const auto summed =
+      ElasticBody<dim>::complete_sum_of_step_energies(energies_under_way,
+                                                      bodies_at_that_step);
+    // kinetic_energy()'s sum (every body's energies are summed here).
+    double energy = 0.;
+    for (const auto &energies : summed)
+      energy += energies.kinetic;
+    energy_of_step_before = energy + contact_energy_under_way;
+  }
+
+  template <int dim>
+  bool
+  CentralDifference<dim>::ranks_meet_at_every_step() const
+  {
+    return !loose_steps;
+  }
+
+  template <int dim>
+  std::optional<double>
+  CentralDifference<dim>::kinetic_and_contact_energy_at_hand() const
+  {
+    if (loose_steps && !energies_under_way.bodies.empty())
+      return energy_of_step_before;
+    double energy = kinetic_energy();
+    for (const auto &result : results)
+      energy += result.energy;
+    return energy;
+  }
+
+  template <int dim>
   double
   CentralDifference<dim>::kinetic_energy() const
   {
     if (!std::isnan(kinetic_energy_of_step))
       return kinetic_energy_of_step;
+    // This step's sum over the ranks, if under way.
+    complete_energies_sum(true);
     double energy = 0.;
     // 1/2 v^{n-1/2} . M v^{n+1/2}, v^{n-1/2} = v^{n+1/2} - dt a^n.
     // A lumped body summed it in its step already.

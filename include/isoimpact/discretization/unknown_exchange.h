@@ -12,6 +12,7 @@
 
 #include <isoimpact/discretization/unknown_partition.h>
 
+#include <array>
 #include <utility>
 #include <vector>
 
@@ -155,6 +156,57 @@ namespace isoimpact
     // The sum over the ranks (the same bits on every rank).
     void
     sum(std::vector<double> &values) const;
+
+    // A ghost update whose messages are under way: the ranks need not meet
+    // where it starts (doc/parallel.md, session 34).
+    // (Destroyed while under way, it waits for its messages.)
+    // complete_ghost_update() waits for the receives alone: a send of a
+    // size above the eager limit completes only once its receiver has
+    // taken it, and a rank that waited for that would meet the other at
+    // every step again. Its buffer is reused two updates later (the sends
+    // alternate between two buffers).
+    struct UpdateUnderWay
+    {
+      ~UpdateUnderWay();
+      std::array<std::vector<std::vector<double>>, 2> sends;
+      std::array<std::vector<MPI_Request>, 2>         send_requests;
+      std::vector<std::vector<double>>                receives;
+      std::vector<MPI_Request>                        receive_requests;
+      unsigned int                                    last_sends = 0;
+      bool                                            started    = false;
+    };
+    // The owned unknowns that other ranks read, peer after peer in one list:
+    // the order in which start_ghost_update() takes their values.
+    const std::vector<dealii::types::global_dof_index> &
+    sent_unknowns() const;
+    // Sends `values` (those of sent_unknowns(), in its order) to the ranks
+    // that read them and posts the receives of this rank's ghosts, with tag
+    // `tag`, without waiting. Every rank starts its updates of one tag in
+    // the same order.
+    void
+    start_ghost_update(const std::vector<double> &values,
+                       const int                  tag,
+                       UpdateUnderWay            &update) const;
+    // Waits for an update under way (nothing if none): the ghosts of
+    // `vector` receive their owners' values.
+    void
+    complete_ghost_update(dealii::Vector<double> &vector,
+                          UpdateUnderWay         &update) const;
+
+    // A sum over the ranks under way (start_sum()).
+    struct SumUnderWay
+    {
+      ~SumUnderWay();
+      std::vector<double> own, all;
+      MPI_Request         request = MPI_REQUEST_NULL;
+      bool                started = false;
+    };
+    // sum() in two halves: the ranks meet only where it is completed.
+    void
+    start_sum(const std::vector<double> &values, SumUnderWay &sum) const;
+    // The sum (the same bits as sum()) into `values`.
+    void
+    complete_sum(SumUnderWay &sum, std::vector<double> &values) const;
     // The largest value over the ranks.
     double
     max(const double value) const;
@@ -175,6 +227,8 @@ namespace isoimpact
     std::vector<unsigned int>                                 peers;
     std::vector<std::vector<dealii::types::global_dof_index>> send_lists,
       receive_lists;
+    // The send lists one after the other (sent_unknowns()).
+    std::vector<dealii::types::global_dof_index> all_sent;
     // Every rank's owned unknowns (sorted; this rank's are
     // owned_unknowns(), all of them serve gather()).
     std::vector<std::vector<dealii::types::global_dof_index>> owned_by_rank;

@@ -399,6 +399,12 @@ namespace isoimpact
      */
     virtual void
     set_bipenalty_mass(const double eps_m);
+    // Several MPI ranks that meet at every step anyway (CentralDifference::
+    // ranks_meet_at_every_step()): the ranks may share the contact's work;
+    // evaluate() is then collective. Without this call (and by default)
+    // every process evaluates the whole contact itself.
+    virtual void
+    distribute_points(const MPI_Comm communicator);
     virtual double
     bipenalty_mass() const;
     virtual double
@@ -429,6 +435,11 @@ namespace isoimpact
                 dealii::ExcMessage("the contact model '" + description() +
                                    "' has no bipenalty (mass penalty)"));
   }
+
+  template <int dim>
+  inline void
+  ContactModel<dim>::distribute_points(const MPI_Comm)
+  {}
 
   template <int dim>
   inline double
@@ -523,7 +534,7 @@ namespace isoimpact
      * collective. Without this call the process projects every point.
      */
     void
-    distribute_points(const MPI_Comm communicator);
+    distribute_points(const MPI_Comm communicator) override;
 
   private:
     // What the projection of one Gauss point found: the other surface's

@@ -304,6 +304,31 @@ namespace isoimpact
     // pass, from which every rank chooses the same next split.
     static void
     sum_step_energies(const std::vector<ElasticBody<dim> *> &bodies);
+    // The same in two halves, so that the ranks need not meet at every step
+    // (doc/parallel.md, session 34): the sum of the bodies' last steps is
+    // started, and completed later. While it is under way the bodies'
+    // energies must not be read.
+    struct StepEnergiesSum
+    {
+      std::vector<ElasticBody<dim> *> bodies;
+      UnknownExchange::SumUnderWay    sum;
+    };
+    static void
+    start_sum_of_step_energies(const std::vector<ElasticBody<dim> *> &bodies,
+                               StepEnergiesSum &under_way);
+    // Waits for the sum; the load balancing observes the passes' times. The
+    // bodies' energies become the sums if `bodies_at_that_step` (no pass
+    // since the start). Returns the sums of the bodies in the sum, in
+    // their order (empty if nothing was under way).
+    static std::vector<StepEnergies>
+    complete_sum_of_step_energies(StepEnergiesSum &under_way,
+                                  const bool       bodies_at_that_step);
+    // Several ranks: whether the ghosts of `displacement` came with the last
+    // advance_displacement() (the owners sent them from the pass before,
+    // which formed the displacement ahead); else the caller must update
+    // them.
+    bool
+    displacement_ghosts_received() const;
     // Load balancing: the rows move to the split chosen by the last
     // sum_step_energies() (their displacement and the half-step velocity
     // go along). Before the ghost exchange of a step; collective.
@@ -401,7 +426,15 @@ namespace isoimpact
     mutable std::optional<StepEnergies> step_energies;
     // On several ranks: step_energies holds this rank's part only.
     mutable bool step_energies_are_partial = false;
-    double       last_pass_seconds         = 0.;
+    // ... and are being summed (StepEnergiesSum).
+    bool   step_energies_under_way = false;
+    double last_pass_seconds       = 0.;
+    // The next displacement's rows that other ranks read, sent by the pass
+    // before the rest of it (UnknownExchange::sent_unknowns()), and whether
+    // the last advance_displacement() received the ghosts.
+    std::vector<double>             sent_values;
+    UnknownExchange::UpdateUnderWay ghosts_under_way;
+    bool                            ghosts_received = false;
     // The next displacement the pass formed ahead, the step and the
     // velocity vector it belongs to (none: nullptr).
     dealii::Vector<double>            displacement_ahead;

@@ -86,6 +86,9 @@ namespace isoimpact
     // Contact/Mass redistribution: the work of the quasi-static boundary.
     std::optional<BoundarySolveWork> boundary_solve;
     unsigned int                     n_massless_unknowns = 0;
+    // Several MPI ranks: whether they met at every step
+    // (CentralDifference::ranks_meet_at_every_step()).
+    bool ranks_meet_at_every_step = true;
   };
 
   class RunSummary

@@ -16,6 +16,7 @@
 
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace isoimpact
@@ -101,9 +102,29 @@ namespace isoimpact
     EnergyBalance
     energy_balance() const;
     // The kinetic energy of energy_balance() alone (no product with the
-    // stiffness), for the stability monitor.
+    // stiffness).
     double
     kinetic_energy() const;
+
+    /**
+     * Several ranks: whether they meet at every step. They need not with
+     * lumped mass (the fused pass) on all bodies, no mass redistribution,
+     * no bipenalty and no contact damping (doc/parallel.md, session 34):
+     * each rank sends the displacement other ranks read from its pass, as
+     * soon as it is formed, and the bodies' energies are summed over the
+     * ranks one step late unless someone asks for them (kinetic_energy(),
+     * energy_balance()); each rank then projects every contact point
+     * itself (ContactModel::distribute_points() is for ranks that meet).
+     * One process: true.
+     */
+    bool
+    ranks_meet_at_every_step() const;
+    // The kinetic plus the contacts' energy of the latest step whose sums
+    // are at hand without waiting for another rank (the stability
+    // monitor's): this step's, or the step before's where the ranks do not
+    // meet at every step; empty if there is none yet.
+    std::optional<double>
+    kinetic_and_contact_energy_at_hand() const;
 
     // Contact result of the last evaluation, per interaction.
     const std::vector<ContactResult<dim>> &
@@ -168,6 +189,20 @@ namespace isoimpact
     // (the damping reads them).
     std::vector<std::pair<const UnknownExchange *, dealii::Vector<double> *>>
       ghost_vectors;
+    // Per entry of ghost_vectors: the body whose displacement it is, or
+    // invalid (a velocity).
+    std::vector<unsigned int> ghost_vector_displacement_of;
+    // Ranks that need not meet at every step (ranks_meet_at_every_step()):
+    // the energies' sum of the last step under way, and the kinetic and
+    // contact energy of the step before, once summed.
+    bool                                               loose_steps = false;
+    mutable typename ElasticBody<dim>::StepEnergiesSum energies_under_way;
+    double                        contact_energy_under_way = 0.;
+    mutable std::optional<double> energy_of_step_before;
+    // Completes the energies' sum under way: the bodies' energies if no
+    // step has passed since.
+    void
+    complete_energies_sum(const bool bodies_at_that_step) const;
     std::vector<std::vector<std::pair<dealii::types::global_dof_index, double>>>
                                     body_penalty_masses;
     std::vector<ContactResult<dim>> results;

@@ -64,7 +64,9 @@ namespace isoimpact
      * kinetic plus contact energy (which the total energy bounds from above,
      * strain energy being non-negative) against the input energy, every
      * value finite, and the deepest penetration. Returns an empty string if
-     * the state is sound, else what went wrong.
+     * the state is sound, else what went wrong. The energy is that of the
+     * step before where the ranks need not meet at every step
+     * (CentralDifference::kinetic_and_contact_energy_at_hand()).
      */
     std::string
     check() const;
