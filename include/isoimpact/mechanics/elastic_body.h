@@ -123,7 +123,10 @@ namespace isoimpact
      * displacement, while the row is at hand; the next
      * advance_displacement() with the same dt and velocity vector takes it
      * instead of a pass of its own (the same bits). The caller must not
-     * change the velocity in between.
+     * change the velocity in between. The rows other ranks read are formed
+     * first and sent at once (UnknownExchange::start_ghost_update()), and
+     * that advance_displacement() receives theirs
+     * (displacement_ghosts_received()).
      */
     void
     compute_acceleration_and_velocities(
