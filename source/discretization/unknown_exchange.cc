@@ -485,45 +485,6 @@ namespace isoimpact
   }
 
   void
-  UnknownExchange::start_update(const Vector<double>             &vector,
-                                const int                         tag,
-                                std::vector<std::vector<double>> &sends,
-                                std::vector<std::vector<double>> &receives,
-                                std::vector<MPI_Request> &requests) const
-  {
-    sends.resize(peers.size());
-    receives.resize(peers.size());
-    for (unsigned int k = 0; k < peers.size(); ++k)
-      {
-        receives[k].resize(receive_lists[k].size());
-        requests.emplace_back();
-        const int ierr = MPI_Irecv(receives[k].data(),
-                                   receives[k].size(),
-                                   MPI_DOUBLE,
-                                   peers[k],
-                                   tag,
-                                   comm,
-                                   &requests.back());
-        AssertThrowMPI(ierr);
-      }
-    for (unsigned int k = 0; k < peers.size(); ++k)
-      {
-        sends[k].resize(send_lists[k].size());
-        for (std::size_t j = 0; j < send_lists[k].size(); ++j)
-          sends[k][j] = vector[send_lists[k][j]];
-        requests.emplace_back();
-        const int ierr = MPI_Isend(sends[k].data(),
-                                   sends[k].size(),
-                                   MPI_DOUBLE,
-                                   peers[k],
-                                   tag,
-                                   comm,
-                                   &requests.back());
-        AssertThrowMPI(ierr);
-      }
-  }
-
-  void
   UnknownExchange::finish_update(
     Vector<double>                         &vector,
     const std::vector<std::vector<double>> &receives) const
@@ -549,23 +510,19 @@ namespace isoimpact
         }))
       return; // one process: nothing to send
     // Every rank lists the vectors in the same order: the k-th vector's
-    // messages carry tag k.
-    std::vector<std::vector<std::vector<double>>> sends(vectors.size()),
-      receives(vectors.size());
-    std::vector<MPI_Request> requests;
+    // messages carry tag k. (The sends are waited for when the updates go.)
+    std::vector<UpdateUnderWay> updates(vectors.size());
+    std::vector<double>         values;
     for (unsigned int v = 0; v < vectors.size(); ++v)
-      if (!vectors[v].first->peers.empty())
-        vectors[v].first->start_update(*vectors[v].second,
-                                       4711 + v,
-                                       sends[v],
-                                       receives[v],
-                                       requests);
-    const int ierr =
-      MPI_Waitall(requests.size(), requests.data(), MPI_STATUSES_IGNORE);
-    AssertThrowMPI(ierr);
+      {
+        const auto &exchange = *vectors[v].first;
+        values.clear();
+        for (const auto i : exchange.all_sent)
+          values.push_back((*vectors[v].second)[i]);
+        exchange.start_ghost_update(values, 4711 + v, updates[v]);
+      }
     for (unsigned int v = 0; v < vectors.size(); ++v)
-      if (!vectors[v].first->peers.empty())
-        vectors[v].first->finish_update(*vectors[v].second, receives[v]);
+      vectors[v].first->complete_ghost_update(*vectors[v].second, updates[v]);
   }
 
   void

@@ -257,14 +257,7 @@ namespace isoimpact
     // ranges and range_offsets from owned_here.
     void
     set_up_ranges();
-    // Posts the receives and sends of `vector` (tag `tag`) into `requests`
-    // with buffers of its own; finish_update() unpacks after the wait.
-    void
-    start_update(const dealii::Vector<double>     &vector,
-                 const int                         tag,
-                 std::vector<std::vector<double>> &sends,
-                 std::vector<std::vector<double>> &receives,
-                 std::vector<MPI_Request>         &requests) const;
+    // The received values into the ghosts of `vector`.
     void
     finish_update(dealii::Vector<double>                 &vector,
                   const std::vector<std::vector<double>> &receives) const;
