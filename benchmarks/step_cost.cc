@@ -78,12 +78,33 @@ main(int argc, char **argv)
           forces.emplace_back(body->n_dofs());
           products.emplace_back(body->n_dofs());
         }
+      // Each contact model's view of the bodies (forces into scratch).
+      std::vector<std::vector<const Vector<double> *>> contact_displacements,
+        contact_velocities;
+      std::vector<std::vector<Vector<double> *>> contact_forces;
+      for (const auto &interaction : scene.interactions)
+        {
+          std::vector<unsigned int> body_indices = {interaction.first_body};
+          if (interaction.contact->n_bodies() == 2)
+            body_indices.push_back(interaction.second_body);
+          contact_displacements.emplace_back();
+          contact_velocities.emplace_back();
+          contact_forces.emplace_back();
+          for (const unsigned int b : body_indices)
+            {
+              contact_displacements.back().push_back(
+                &scene.bodies[b]->displacement);
+              contact_velocities.back().push_back(&scene.bodies[b]->velocity);
+              contact_forces.back().push_back(&forces[b]);
+            }
+        }
       const double infinity         = std::numeric_limits<double>::infinity();
       double       step_time        = infinity;
       double       matvec           = infinity;
       double       accel_time       = infinity;
       double       solve_time       = infinity;
       double       output_step_time = infinity;
+      double       contact_time     = infinity;
       Timer        timer;
       // Each step is followed by the mat-vec it is compared with, so that
       // a change of the machine's load hits both alike: the median of these
@@ -92,7 +113,7 @@ main(int argc, char **argv)
       double              kinetic_energy_sum = 0.; // printed: not optimised out
       for (unsigned int round = 0; round < rounds; ++round)
         {
-          double round_steps = 0., round_matvecs = 0.;
+          double round_steps = 0., round_matvecs = 0., round_contacts = 0.;
           for (unsigned int step = 0; step < n_steps; ++step)
             {
               timer.restart();
@@ -105,12 +126,21 @@ main(int argc, char **argv)
                   products[b],
                   scene.bodies[b]->displacement);
               const double one_matvec = timer.wall_time();
+              timer.restart();
+              for (unsigned int c = 0; c < scene.interactions.size(); ++c)
+                scene.interactions[c].contact->evaluate(
+                  contact_displacements[c],
+                  contact_velocities[c],
+                  contact_forces[c],
+                  false);
+              round_contacts += timer.wall_time();
               round_steps += one_step;
               round_matvecs += one_matvec;
               paired_ratios.push_back(one_step / one_matvec);
             }
-          step_time = std::min(step_time, round_steps / n_steps);
-          matvec    = std::min(matvec, round_matvecs / n_steps);
+          step_time    = std::min(step_time, round_steps / n_steps);
+          matvec       = std::min(matvec, round_matvecs / n_steps);
+          contact_time = std::min(contact_time, round_contacts / n_steps);
 
           // The output step (contact points and the whole-step state), a
           // quarter as many, so that the rounds stay inside the impact.
@@ -203,6 +233,9 @@ main(int argc, char **argv)
                 << 1e9 * output_step_time / n << " ns per unknown)\n"
                 << "acceleration alone   " << 1e3 * accel_time << " ms ("
                 << 1e9 * accel_time / n << " ns per unknown)\n"
+                << "contact alone        " << 1e3 * contact_time
+                << " ms (after each mat-vec, " << scene.interactions.size()
+                << " interaction(s))\n"
                 << "bare mat-vec (all K) " << 1e3 * matvec << " ms ("
                 << 1e9 * matvec / n << " ns per unknown)\n"
                 << "step / mat-vec       " << step_time / matvec
@@ -213,7 +246,8 @@ main(int argc, char **argv)
                 << " contact=" << (contact_on ? 1 : 0)
                 << " step_ns=" << 1e9 * step_time / n
                 << " output_step_ns=" << 1e9 * output_step_time / n
-                << " accel_ns=" << 1e9 * accel_time / n << " solve_ns="
+                << " accel_ns=" << 1e9 * accel_time / n
+                << " contact_us=" << 1e6 * contact_time << " solve_ns="
                 << (factor_nonzeros > 0 ? 1e9 * solve_time / n : 0.)
                 << " matvec_ns=" << 1e9 * matvec / n
                 << " paired_ratio=" << paired_ratio
