@@ -114,9 +114,18 @@ namespace isoimpact
         }
     area.assign(x_dof.size(), 0.);
     for (const auto &point : points)
-      for (unsigned int k = 0; k < point.shape_values.size(); ++k)
-        area[node_of_segment[point.segment][k]] +=
-          point.shape_values[k] * point.weight;
+      {
+        point_weights.push_back(point.weight);
+        first_value.push_back(values.size());
+        for (unsigned int k = 0; k < point.shape_values.size(); ++k)
+          {
+            area[node_of_segment[point.segment][k]] +=
+              point.shape_values[k] * point.weight;
+            value_nodes.push_back(node_of_segment[point.segment][k]);
+            values.push_back(point.shape_values[k]);
+          }
+      }
+    first_value.push_back(values.size());
   }
 
   template <int dim>
@@ -128,19 +137,20 @@ namespace isoimpact
     std::vector<double>                            &field) const
   {
     AssertDimension(point_pressure.size(), points.size());
+    AssertDimension(points.size(), point_weights.size());
+    (void)points;
     nodal.assign(area.size(), 0.);
-    for (unsigned int q = 0; q < points.size(); ++q)
+    for (unsigned int q = 0; q < point_weights.size(); ++q)
       if (point_pressure[q] != 0.)
-        for (unsigned int k = 0; k < points[q].shape_values.size(); ++k)
-          nodal[node_of_segment[points[q].segment][k]] +=
-            point_pressure[q] * points[q].weight * points[q].shape_values[k];
+        for (unsigned int j = first_value[q]; j < first_value[q + 1]; ++j)
+          nodal[value_nodes[j]] +=
+            point_pressure[q] * point_weights[q] * values[j];
     for (unsigned int i = 0; i < nodal.size(); ++i)
       nodal[i] = area[i] > 0. ? nodal[i] / area[i] : 0.;
-    field.assign(points.size(), 0.);
-    for (unsigned int q = 0; q < points.size(); ++q)
-      for (unsigned int k = 0; k < points[q].shape_values.size(); ++k)
-        field[q] += points[q].shape_values[k] *
-                    nodal[node_of_segment[points[q].segment][k]];
+    field.assign(point_weights.size(), 0.);
+    for (unsigned int q = 0; q < point_weights.size(); ++q)
+      for (unsigned int j = first_value[q]; j < first_value[q + 1]; ++j)
+        field[q] += values[j] * nodal[value_nodes[j]];
   }
 
   template <int dim>
@@ -276,15 +286,24 @@ namespace isoimpact
     using BoundingBox = bg::model::box<BoostPoint>;
 
     // Scratch of the evaluations: a contact surface in its current
-    // configuration (the node positions of each segment) and its search
-    // structure, an R-tree of the segments' bounding boxes. Kept between
-    // evaluations so that its arrays are not allocated again.
+    // configuration (the node positions of each segment and of its Gauss
+    // points) and its search structure, an R-tree of the segments' bounding
+    // boxes. Kept between evaluations so that its arrays are not allocated
+    // again. The segments' and points' data are copied once into flat arrays
+    // in the order they are read: an evaluation follows the step's pass,
+    // which has streamed the whole state through the caches, and a walk
+    // through one array per segment or point would wait for one miss after
+    // another.
     template <int dim>
     class CurrentSurface
     {
     public:
-      // The configuration u of `segments` (the vectors must outlive the
-      // use until the next update).
+      CurrentSurface(const std::vector<BoundarySegment<dim>>        &segments,
+                     const std::vector<SurfaceQuadraturePoint<dim>> &points);
+
+      // The configuration u of `segments` (the same as in the constructor;
+      // the vector must outlive the use until the next update), and the
+      // current positions of the Gauss points.
       void
       update(const std::vector<BoundarySegment<dim>> &segments,
              const std::vector<double>               &reference_lengths,
@@ -295,15 +314,23 @@ namespace isoimpact
       find_candidates(const Point<dim>          &x,
                       std::vector<unsigned int> &candidates) const;
 
+      // Whether x lies in the box of all the segments' boxes (if not, it has
+      // no candidate).
+      bool
+      may_have_candidates(const Point<dim> &x) const;
+
       // A lower bound of the distance from x to segment s: the distance to
       // the box of its Bezier control points, whose convex hull holds the
       // curve (0 for a segment whose Bezier weights are not all positive).
       double
       distance_bound(const unsigned int s, const Point<dim> &x) const;
 
-      // Current position of a Gauss point.
-      Point<dim>
-      position(const SurfaceQuadraturePoint<dim> &point) const;
+      // Current position of Gauss point q (of the constructor's points).
+      const Point<dim> &
+      point_position(const unsigned int q) const
+      {
+        return point_positions[q];
+      }
 
       // Position and tangent of segment s at eta.
       void
@@ -328,14 +355,72 @@ namespace isoimpact
       }
 
     private:
-      const std::vector<BoundarySegment<dim>>          *segments = nullptr;
-      std::vector<std::vector<Point<dim>>>              nodes;
+      const std::vector<BoundarySegment<dim>> *segments = nullptr;
+      // Segment s has the nodes first_node[s] to first_node[s + 1] - 1.
+      std::vector<unsigned int> first_node;
+      std::vector<unsigned int> degrees;
+      // Per node: the unknowns of its components, its reference position.
+      std::vector<types::global_dof_index> node_dofs;
+      std::vector<Point<dim>>              reference_nodes;
+      // Per segment, node-major: w_k C_kj (weight times Bernstein
+      // coefficient), from first_coefficient[s] on.
+      std::vector<double>       hull_coefficients;
+      std::vector<unsigned int> first_coefficient;
+      // Per Gauss point: its segment and nodal function values (from
+      // first_shape_value[q] on, as many as its segment has nodes).
+      std::vector<unsigned int> point_segments;
+      std::vector<unsigned int> first_shape_value;
+      std::vector<double>       shape_values;
+
+      // The current configuration.
+      std::vector<Point<dim>>                           nodes;
+      std::vector<Point<dim>>                           point_positions;
       std::vector<std::pair<BoundingBox, unsigned int>> boxes;
+      std::array<Point<dim>, 2>                         all_boxes;
       // Per segment: the box of its Bezier control points (lower, upper),
       // or an empty box (lower > upper) if it does not bound the curve.
       std::vector<std::array<Point<dim>, 2>> hull_boxes;
       bgi::rtree<std::pair<BoundingBox, unsigned int>, bgi::quadratic<16>> tree;
     };
+
+    template <int dim>
+    CurrentSurface<dim>::CurrentSurface(
+      const std::vector<BoundarySegment<dim>>        &segments,
+      const std::vector<SurfaceQuadraturePoint<dim>> &points)
+    {
+      first_node.push_back(0);
+      first_coefficient.push_back(0);
+      for (const auto &segment : segments)
+        {
+          degrees.push_back(segment.degree);
+          for (unsigned int k = 0; k < segment.node_positions.size(); ++k)
+            {
+              for (unsigned int d = 0; d < dim; ++d)
+                node_dofs.push_back(segment.node_dofs[k][d]);
+              reference_nodes.push_back(segment.node_positions[k]);
+              for (unsigned int j = 0; j <= segment.degree; ++j)
+                hull_coefficients.push_back(
+                  segment.node_weights[k] *
+                  segment.bernstein_coefficients(k, j));
+            }
+          first_node.push_back(reference_nodes.size());
+          first_coefficient.push_back(hull_coefficients.size());
+        }
+      for (const auto &point : points)
+        {
+          AssertDimension(point.shape_values.size(),
+                          first_node[point.segment + 1] -
+                            first_node[point.segment]);
+          point_segments.push_back(point.segment);
+          first_shape_value.push_back(shape_values.size());
+          shape_values.insert(shape_values.end(),
+                              point.shape_values.begin(),
+                              point.shape_values.end());
+        }
+      nodes.resize(reference_nodes.size());
+      point_positions.resize(points.size());
+      hull_boxes.resize(segments.size());
+    }
 
     template <int dim>
     void
@@ -344,46 +429,36 @@ namespace isoimpact
       const std::vector<double>               &reference_lengths,
       const Vector<double>                    &u)
     {
+      AssertDimension(segments.size() + 1, first_node.size());
       this->segments = &segments;
-      nodes.resize(segments.size());
-      hull_boxes.resize(segments.size());
       boxes.clear();
-      // The step's pass has just streamed the whole state through the
-      // caches: the segments' arrays and their entries of u (scattered
-      // through a vector much larger than the caches) are far. Ask for all
-      // of them at once, so that their misses overlap instead of coming
-      // one after another below (no arithmetic changes).
-      for (unsigned int s = 0; s < segments.size(); ++s)
+      // The entries of u are scattered through a vector much larger than
+      // the caches: ask for all of them at once, so that their misses
+      // overlap (no arithmetic changes).
+      for (std::size_t i = 0; i < node_dofs.size(); i += dim)
+        __builtin_prefetch(u.data() + node_dofs[i]);
+      for (unsigned int d = 0; d < dim; ++d)
         {
-          const auto &segment = segments[s];
-          __builtin_prefetch(segment.node_dofs.data());
-          __builtin_prefetch(segment.node_positions.data());
-          __builtin_prefetch(segment.node_weights.data());
-          if (!segment.bernstein_coefficients.empty())
-            __builtin_prefetch(&segment.bernstein_coefficients(0, 0));
-          __builtin_prefetch(nodes[s].data(), 1);
+          all_boxes[0][d] = std::numeric_limits<double>::max();
+          all_boxes[1][d] = -std::numeric_limits<double>::max();
         }
-      for (const auto &segment : segments)
-        for (const auto &dofs : segment.node_dofs)
-          __builtin_prefetch(u.data() + dofs[0]);
       for (unsigned int s = 0; s < segments.size(); ++s)
         {
-          const auto &segment = segments[s];
-          auto       &current = nodes[s];
-          current.resize(segment.node_positions.size());
-          Point<dim> lower, upper;
+          const unsigned int first   = first_node[s];
+          const unsigned int n_nodes = first_node[s + 1] - first;
+          const unsigned int degree  = degrees[s];
+          Point<dim>         lower, upper;
           for (unsigned int d = 0; d < dim; ++d)
             {
               lower[d] = std::numeric_limits<double>::max();
               upper[d] = -std::numeric_limits<double>::max();
             }
-          for (unsigned int k = 0; k < current.size(); ++k)
+          for (unsigned int k = first; k < first + n_nodes; ++k)
             for (unsigned int d = 0; d < dim; ++d)
               {
-                current[k][d] =
-                  segment.node_positions[k][d] + u(segment.node_dofs[k][d]);
-                lower[d] = std::min(lower[d], current[k][d]);
-                upper[d] = std::max(upper[d], current[k][d]);
+                nodes[k][d] = reference_nodes[k][d] + u(node_dofs[dim * k + d]);
+                lower[d]    = std::min(lower[d], nodes[k][d]);
+                upper[d]    = std::max(upper[d], nodes[k][d]);
               }
           // x(eta) = sum_j b_j W_j P_j / sum_j b_j W_j with the Bezier
           // weights W_j = sum_k w_k C_kj and points P_j = sum_k w_k C_kj
@@ -395,17 +470,17 @@ namespace isoimpact
               hull[0][d] = std::numeric_limits<double>::infinity();
               hull[1][d] = -std::numeric_limits<double>::infinity();
             }
-          bool bounded = true;
-          for (unsigned int j = 0; j <= segment.degree; ++j)
+          bool          bounded      = true;
+          const double *coefficients = &hull_coefficients[first_coefficient[s]];
+          for (unsigned int j = 0; j <= degree; ++j)
             {
               double     weight = 0.;
               Point<dim> weighted;
-              for (unsigned int k = 0; k < current.size(); ++k)
+              for (unsigned int k = 0; k < n_nodes; ++k)
                 {
-                  const double c = segment.node_weights[k] *
-                                   segment.bernstein_coefficients(k, j);
+                  const double c = coefficients[k * (degree + 1) + j];
                   weight += c;
-                  weighted += c * current[k];
+                  weighted += c * nodes[first + k];
                 }
               bounded = bounded && weight > 0.;
               for (unsigned int d = 0; d < dim; ++d)
@@ -423,8 +498,23 @@ namespace isoimpact
             BoundingBox(BoostPoint(lower[0] - margin, lower[1] - margin),
                         BoostPoint(upper[0] + margin, upper[1] + margin)),
             s);
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              all_boxes[0][d] = std::min(all_boxes[0][d], lower[d] - margin);
+              all_boxes[1][d] = std::max(all_boxes[1][d], upper[d] + margin);
+            }
         }
       tree = decltype(tree)(boxes.begin(), boxes.end()); // bulk loading
+      for (unsigned int q = 0; q < point_positions.size(); ++q)
+        {
+          const unsigned int first  = first_node[point_segments[q]];
+          const unsigned int n      = first_node[point_segments[q] + 1] - first;
+          const double      *values = &shape_values[first_shape_value[q]];
+          Point<dim>         x;
+          for (unsigned int k = 0; k < n; ++k)
+            x += values[k] * nodes[first + k];
+          point_positions[q] = x;
+        }
     }
 
     template <int dim>
@@ -439,6 +529,16 @@ namespace isoimpact
                    [&](const std::pair<BoundingBox, unsigned int> &value) {
                      candidates.push_back(value.second);
                    }));
+    }
+
+    template <int dim>
+    bool
+    CurrentSurface<dim>::may_have_candidates(const Point<dim> &x) const
+    {
+      for (unsigned int d = 0; d < dim; ++d)
+        if (!(x[d] >= all_boxes[0][d] && x[d] <= all_boxes[1][d]))
+          return false;
+      return true;
     }
 
     template <int dim>
@@ -463,17 +563,6 @@ namespace isoimpact
     }
 
     template <int dim>
-    Point<dim>
-    CurrentSurface<dim>::position(
-      const SurfaceQuadraturePoint<dim> &point) const
-    {
-      Point<dim> x;
-      for (unsigned int k = 0; k < point.shape_values.size(); ++k)
-        x += point.shape_values[k] * nodes[point.segment][k];
-      return x;
-    }
-
-    template <int dim>
     void
     CurrentSurface<dim>::evaluate(const unsigned int   s,
                                   const double         eta,
@@ -483,12 +572,13 @@ namespace isoimpact
                                   Tensor<1, dim>      &tangent) const
     {
       evaluate_segment_basis((*segments)[s], eta, r, dr);
-      x       = Point<dim>();
-      tangent = Tensor<1, dim>();
+      x                               = Point<dim>();
+      tangent                         = Tensor<1, dim>();
+      const Point<dim> *segment_nodes = &nodes[first_node[s]];
       for (unsigned int k = 0; k < r.size(); ++k)
         {
-          x += r[k] * nodes[s][k];
-          tangent += dr[k] * nodes[s][k];
+          x += r[k] * segment_nodes[k];
+          tangent += dr[k] * segment_nodes[k];
         }
     }
 
@@ -588,15 +678,16 @@ namespace isoimpact
     // The candidates are visited nearest bound first, and those whose bound
     // exceeds the closest distance found are not projected. Of equally
     // distant ones the first in `candidates` is taken, as in their order.
+    // `order`, `r` and `dr` are scratch.
     template <int dim>
     Projection<dim>
-    project(const CurrentSurface<dim>       &surface,
-            const Point<dim>                &x,
-            const std::vector<unsigned int> &candidates,
-            std::vector<double>             &r,
-            std::vector<double>             &dr)
+    project(const CurrentSurface<dim>                    &surface,
+            const Point<dim>                             &x,
+            const std::vector<unsigned int>              &candidates,
+            std::vector<std::pair<double, unsigned int>> &order,
+            std::vector<double>                          &r,
+            std::vector<double>                          &dr)
     {
-      thread_local std::vector<std::pair<double, unsigned int>> order;
       order.clear();
       for (unsigned int i = 0; i < candidates.size(); ++i)
         order.emplace_back(surface.distance_bound(candidates[i], x), i);
@@ -834,7 +925,9 @@ namespace isoimpact
       for (unsigned int b = 0; b < 2; ++b)
         {
           if (!current_surfaces[b])
-            current_surfaces[b] = std::make_unique<CurrentSurface<dim>>();
+            current_surfaces[b] =
+              std::make_unique<CurrentSurface<dim>>(surfaces[b].segments,
+                                                    surfaces[b].points);
           updates += Threads::new_task([this, &displacements, b]() {
             current_surfaces[b]->update(surfaces[b].segments,
                                         surfaces[b].reference_lengths,
@@ -857,12 +950,13 @@ namespace isoimpact
     const unsigned int n_points_0 = surfaces[0].points.size();
     const unsigned int n_points   = n_points_0 + surfaces[1].points.size();
     const unsigned int per_rank   = (n_points + n_ranks - 1) / n_ranks;
-    own_outcomes.assign(per_rank,
-                        PointOutcome{-1., 0., {{0., 0.}}, 0., 0., 0.});
+    // (Each point below marks its own slot first; the padding is not read.)
+    own_outcomes.resize(per_rank);
     const auto project_points = [&](const unsigned int first,
                                     const unsigned int end) {
-      std::vector<double>       r, dr;
-      std::vector<unsigned int> candidates;
+      std::vector<double>                          r, dr;
+      std::vector<unsigned int>                    candidates;
+      std::vector<std::pair<double, unsigned int>> order;
       for (unsigned int k = first; k < end; ++k)
         {
           const unsigned int g = rank + k * n_ranks;
@@ -871,11 +965,14 @@ namespace isoimpact
           const unsigned int body  = (g < n_points_0) ? 0 : 1;
           const unsigned int other = 1 - body;
           const unsigned int q     = (body == 0) ? g : g - n_points_0;
-          const auto        &point = surfaces[body].points[q];
-          const Point<dim>   x     = current[body]->position(point);
+          own_outcomes[k].segment  = -1.;
+          const Point<dim> &x      = current[body]->point_position(q);
+          if (!current[other]->may_have_candidates(x))
+            continue;
+          const auto &point = surfaces[body].points[q];
           current[other]->find_candidates(x, candidates);
           const Projection<dim> projection =
-            project(*current[other], x, candidates, r, dr);
+            project(*current[other], x, candidates, order, r, dr);
           if (projection.segment == numbers::invalid_unsigned_int ||
               !(projection.gap < 0.))
             continue;

@@ -263,7 +263,7 @@ namespace isoimpact
      * reproduced exactly. The quadratic Lagrange functions are negative in
      * parts of a face: their projection may exceed the largest point value
      * by a few per cent on coarse faces (tests/symmetric_contact.cc).
-     * `nodal` is scratch.
+     * `points` are the constructor's; `nodal` is scratch.
      */
     void
     project_pressure(const std::vector<SurfaceQuadraturePoint<dim>> &points,
@@ -276,6 +276,14 @@ namespace isoimpact
     // Per surface node: its x unknown and a_k.
     std::vector<dealii::types::global_dof_index> x_dof;
     std::vector<double>                          area;
+
+  private:
+    // The points' weights, and per point its nodes and their functions'
+    // values (from first_value[q] on): one array each, read in order.
+    std::vector<double>       point_weights;
+    std::vector<unsigned int> first_value;
+    std::vector<unsigned int> value_nodes;
+    std::vector<double>       values;
   };
 
   /**
