@@ -8,7 +8,8 @@ level 4, halved per level (stable for both masses). Prints one table:
 ns per unknown per step, the bare stiffness mat-vec of the same matrices in
 the same run, their ratio (of the fastest rounds, and the median of the
 step/mat-vec pairs timed back to back, which a change of the machine's load
-moves least), the consistent step against the HRZ step (both normalised by
+moves least), the contact's evaluation timed alone after a mat-vec (ms;
+benchmark_step_cost's "contact alone"), the consistent step against the HRZ step (both normalised by
 their run's mat-vec, by the paired ratios, so that a change of the load
 between the runs cancels; raw; and both scenes in one process, their steps
 timed alternately, the median of the pairs' ratios, by
@@ -71,7 +72,7 @@ def main():
     rounds = 3
     header = ("| method | level | unknowns | mass | step [ns/unknown] "
               "| mat-vec [ns/unknown] | step / mat-vec | step / mat-vec "
-              "(paired median) | consistent / HRZ "
+              "(paired median) | contact alone [ms] | consistent / HRZ "
               "(normalised) | consistent / HRZ (raw) | consistent / HRZ "
               "(one process, paired) | peak memory "
               "[bytes/unknown] | factors [bytes/unknown] | factors "
@@ -127,14 +128,16 @@ def main():
                                                    []).append(normalised)
                         one_process_runs.setdefault((method, level),
                                                     []).append(one_process)
+                    contact = float(r["contact_us"]) / 1e3
                     print(f"| {method} | {level} | {r['unknowns']} | {mass} "
                           f"| {step:.1f} | {matvec:.1f} | {ratio:.2f} "
-                          f"| {paired:.2f} | {normalised:.2f} | {raw:.2f} "
+                          f"| {paired:.2f} | {contact:.3f} "
+                          f"| {normalised:.2f} | {raw:.2f} "
                           f"| {one_process:.2f} "
                           if consistent else
                           f"| {method} | {level} | {r['unknowns']} | {mass} "
                           f"| {step:.1f} | {matvec:.1f} | {ratio:.2f} "
-                          f"| {paired:.2f} | - | - | - ",
+                          f"| {paired:.2f} | {contact:.3f} | - | - | - ",
                           end="")
                     print(f"| {float(r['peak_bytes']):.0f} "
                           + (f"| {float(r['factor_bytes']):.0f} "
