@@ -411,7 +411,7 @@ namespace
     {
       ElasticBody<2>      &body  = *body_1->body;
       const Vector<double> start = body.displacement;
-      const Vector<double> v     = body.velocity;
+      Vector<double>       v     = body.velocity;
       body.advance_displacement(v, dt);
       const Vector<double>          whole            = body.displacement;
       const types::global_dof_index n                = body.n_dofs();

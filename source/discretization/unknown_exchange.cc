@@ -178,23 +178,40 @@ namespace isoimpact
     for (types::global_dof_index i = 0; i < owner_of.size(); ++i)
       owned_here[i] = owner_of[i] == rank;
     set_up_ranges();
-    // Rank 0 reads layer present_split + 1 of rank 1, rank 1 layer
-    // present_split of rank 0, both the shared unknowns the other owns.
-    const auto needs_of = [&](const unsigned int p) {
-      std::vector<types::global_dof_index> needs =
-        layer_lists[present_split + (p == 0 ? 1 : 0) - min_split];
-      for (std::size_t k = 0; k < shared_unknowns.size(); ++k)
-        if ((layer_of_shared[k] <= present_split) != (p == 0))
-          needs.push_back(shared_unknowns[k]);
-      std::sort(needs.begin(), needs.end());
-      needs.erase(std::unique(needs.begin(), needs.end()), needs.end());
-      return needs;
-    };
-    ghosts        = needs_of(rank);
+    ghosts        = needs_at(rank, present_split);
     peers         = {1 - rank};
-    send_lists    = {needs_of(1 - rank)};
+    send_lists    = {needs_at(1 - rank, present_split)};
     receive_lists = {ghosts};
     all_sent      = send_lists[0];
+  }
+
+  std::vector<types::global_dof_index>
+  UnknownExchange::needs_at(const unsigned int p, const int split) const
+  {
+    // Rank 0 reads layer split + 1 of rank 1, rank 1 layer split of rank 0,
+    // both the shared unknowns the other owns.
+    std::vector<types::global_dof_index> needs =
+      layer_lists[split + (p == 0 ? 1 : 0) - min_split];
+    for (std::size_t k = 0; k < shared_unknowns.size(); ++k)
+      if ((layer_of_shared[k] <= split) != (p == 0))
+        needs.push_back(shared_unknowns[k]);
+    std::sort(needs.begin(), needs.end());
+    needs.erase(std::unique(needs.begin(), needs.end()), needs.end());
+    return needs;
+  }
+
+  std::vector<types::global_dof_index>
+  UnknownExchange::rows_between(const int target) const
+  {
+    std::vector<types::global_dof_index> rows;
+    for (int s = std::min(present_split, target) + 1;
+         s <= std::max(present_split, target);
+         ++s)
+      rows.insert(rows.end(),
+                  layer_lists[s - min_split].begin(),
+                  layer_lists[s - min_split].end());
+    std::sort(rows.begin(), rows.end());
+    return rows;
   }
 
   bool
@@ -283,11 +300,12 @@ namespace isoimpact
     AssertDimension(seconds.size(), 2);
     if (balancing == LoadBalancing::sweep)
       {
-        if (present_split + sweep_direction > max_split ||
-            present_split + sweep_direction < min_split)
+        // From the split a move under way goes to.
+        const int from = move_in_flight ? move_target : present_split;
+        if (from + sweep_direction > max_split ||
+            from + sweep_direction < min_split)
           sweep_direction = -sweep_direction;
-        next_split =
-          std::clamp(present_split + sweep_direction, min_split, max_split);
+        next_split = std::clamp(from + sweep_direction, min_split, max_split);
         return;
       }
     // Measured: the joint rule with this body alone.
@@ -315,6 +333,11 @@ namespace isoimpact
           exchange->observe_pass_times(seconds);
         return;
       }
+    // (None while a move is under way: the pass timed the rows of a split
+    // about to change.)
+    for (const auto *exchange : exchanges)
+      if (exchange->move_in_flight)
+        return;
     // Each rank's rows over all bodies, and its time per row averaged over
     // about twenty steps (the first five, with their page faults, left
     // out; the state kept in the first exchange).
@@ -389,6 +412,7 @@ namespace isoimpact
   {
     if (balancing == LoadBalancing::off || next_split == present_split)
       return;
+    AssertThrow(!move_in_flight, ExcMessage("a move is under way"));
     // The layers that change hands, from their old owner.
     const int           low  = std::min(present_split, next_split) + 1;
     const int           high = std::max(present_split, next_split);
@@ -434,6 +458,122 @@ namespace isoimpact
     present_split = next_split;
     ++moves;
     set_up_split();
+  }
+
+  bool
+  UnknownExchange::move_is_due() const
+  {
+    return balancing != LoadBalancing::off && !move_in_flight &&
+           next_split != present_split;
+  }
+
+  void
+  UnknownExchange::prepare_move()
+  {
+    AssertThrow(move_is_due(), ExcMessage("no move is due"));
+    // The rows that change hands go from `from` to the other rank; each
+    // rank sends what it owns now of the other's needs at the new split and
+    // of those rows (the other computes the rest itself: it owns them now).
+    const auto         moved        = rows_between(next_split);
+    const unsigned int from         = next_split > present_split ? 1 : 0;
+    const auto         owned_now_by = [&](const unsigned int p) {
+      std::vector<types::global_dof_index> rows = needs_at(1 - p, next_split);
+      if (p == from)
+        rows.insert(rows.end(), moved.begin(), moved.end());
+      std::sort(rows.begin(), rows.end());
+      rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+      rows.erase(std::remove_if(rows.begin(),
+                                rows.end(),
+                                [&](const types::global_dof_index i) {
+                                  return owner_of[i] != p;
+                                }),
+                 rows.end());
+      return rows;
+    };
+    move_sent     = owned_now_by(rank);
+    move_received = owned_now_by(1 - rank);
+    move_sent_velocity_rows.clear();
+    move_received_velocity_rows.clear();
+    (rank == from ? move_sent_velocity_rows : move_received_velocity_rows) =
+      moved;
+    move_target = next_split;
+  }
+
+  const std::vector<types::global_dof_index> &
+  UnknownExchange::move_sent_unknowns() const
+  {
+    return move_sent;
+  }
+
+  const std::vector<types::global_dof_index> &
+  UnknownExchange::move_sent_rows() const
+  {
+    return move_sent_velocity_rows;
+  }
+
+  void
+  UnknownExchange::start_move(const std::vector<double> &values,
+                              const int                  tag,
+                              UpdateUnderWay            &update)
+  {
+    AssertThrow(move_is_due() && move_target == next_split,
+                ExcMessage("start_move() needs prepare_move() first"));
+    AssertDimension(values.size(),
+                    move_sent.size() + move_sent_velocity_rows.size());
+    const std::size_t n_received =
+      move_received.size() + move_received_velocity_rows.size();
+    post_update(
+      values,
+      [&](const unsigned int) {
+        return values.size();
+      },
+      [&](const unsigned int) {
+        return n_received;
+      },
+      tag,
+      update);
+    update.move    = true;
+    move_in_flight = true;
+  }
+
+  void
+  UnknownExchange::complete_move(Vector<double> *displacement,
+                                 Vector<double> *half_step_velocity,
+                                 UpdateUnderWay &update)
+  {
+    if (!update.started || !update.move)
+      return;
+    const int ierr = MPI_Waitall(update.receive_requests.size(),
+                                 update.receive_requests.data(),
+                                 MPI_STATUSES_IGNORE);
+    AssertThrowMPI(ierr);
+    update.started = false;
+    update.move    = false;
+    move_in_flight = false;
+    if (displacement == nullptr || half_step_velocity == nullptr)
+      {
+        next_split = present_split; // cancelled
+        return;
+      }
+    const auto &received = update.receives[0];
+    std::size_t k        = 0;
+    for (const auto i : move_received)
+      (*displacement)[i] = received[k++];
+    for (const auto i : move_received_velocity_rows)
+      (*half_step_velocity)[i] = received[k++];
+    const unsigned int from = move_target > present_split ? 1 : 0;
+    for (const auto i : rows_between(move_target))
+      owner_of[i] = 1 - from;
+    present_split = move_target;
+    ++moves;
+    ++moves_without_meeting;
+    set_up_split();
+  }
+
+  unsigned int
+  UnknownExchange::n_moves_without_meeting() const
+  {
+    return moves_without_meeting;
   }
 
   void
@@ -607,9 +747,29 @@ namespace isoimpact
                                       const int                  tag,
                                       UpdateUnderWay            &update) const
   {
+    AssertDimension(values.size(), all_sent.size());
+    post_update(
+      values,
+      [&](const unsigned int k) {
+        return send_lists[k].size();
+      },
+      [&](const unsigned int k) {
+        return receive_lists[k].size();
+      },
+      tag,
+      update);
+  }
+
+  template <typename SendSize, typename ReceiveSize>
+  void
+  UnknownExchange::post_update(const std::vector<double> &values,
+                               const SendSize            &send_size,
+                               const ReceiveSize         &receive_size,
+                               const int                  tag,
+                               UpdateUnderWay            &update) const
+  {
     AssertThrow(!update.started,
                 ExcMessage("a ghost update is under way already"));
-    AssertDimension(values.size(), all_sent.size());
     if (peers.empty())
       return;
     // The sends of two updates ago, whose buffer is reused: long taken.
@@ -626,7 +786,7 @@ namespace isoimpact
     update.receives.resize(peers.size());
     for (unsigned int k = 0; k < peers.size(); ++k)
       {
-        update.receives[k].resize(receive_lists[k].size());
+        update.receives[k].resize(receive_size(k));
         ierr = MPI_Irecv(update.receives[k].data(),
                          update.receives[k].size(),
                          MPI_DOUBLE,
@@ -640,8 +800,8 @@ namespace isoimpact
     for (unsigned int k = 0; k < peers.size(); ++k)
       {
         sends[k].assign(values.begin() + first,
-                        values.begin() + first + send_lists[k].size());
-        first += send_lists[k].size();
+                        values.begin() + first + send_size(k));
+        first += send_size(k);
         ierr = MPI_Isend(sends[k].data(),
                          sends[k].size(),
                          MPI_DOUBLE,
@@ -660,6 +820,7 @@ namespace isoimpact
   {
     if (!update.started)
       return;
+    AssertThrow(!update.move, ExcMessage("a move: see complete_move()"));
     const int ierr = MPI_Waitall(update.receive_requests.size(),
                                  update.receive_requests.data(),
                                  MPI_STATUSES_IGNORE);

@@ -665,7 +665,19 @@ namespace isoimpact
   {
     velocity_of_mass_product    = nullptr;
     displacement_ahead_velocity = nullptr;
-    row_exchange.complete_ghost_update(displacement_ahead, ghosts_under_way);
+    drop_ghosts_sent_ahead();
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::drop_ghosts_sent_ahead()
+  {
+    // (A move sent with them is cancelled: the rows stay with the owners
+    // that computed them.)
+    if (ghosts_under_way.move)
+      row_exchange.complete_move(nullptr, nullptr, ghosts_under_way);
+    else
+      row_exchange.complete_ghost_update(displacement_ahead, ghosts_under_way);
   }
 
   template <int dim>
@@ -855,21 +867,44 @@ namespace isoimpact
     // Several ranks, the next displacement ahead: first the rows that other
     // ranks read, sent at once, so that they need not wait for the rest of
     // the pass (row_step()'s operations: the same bits, checked below).
-    const auto &sent = row_exchange.sent_unknowns();
+    // A move of the load balancing that is due goes with them: the rows the
+    // other rank reads at the new split or takes over, and the velocity of
+    // the latter (the ranks switch where it is received, the next
+    // advance_displacement()).
+    const bool moving =
+      owned_rows_only && u_ahead != nullptr && row_exchange.move_is_due();
+    if (moving)
+      row_exchange.prepare_move();
+    const auto &sent =
+      moving ? row_exchange.move_sent_unknowns() : row_exchange.sent_unknowns();
+    const auto &moved = moving ? row_exchange.move_sent_rows() :
+                                 std::vector<types::global_dof_index>();
     if constexpr (owned_rows_only)
       if (u_ahead != nullptr)
         {
-          sent_values.resize(sent.size());
+          sent_values.resize(sent.size() + moved.size());
+          const auto acceleration_of = [&](const std::size_t i) {
+            const double ku = row_product(i);
+            return (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
+          };
           for (std::size_t j = 0; j < sent.size(); ++j)
             {
-              const std::size_t i  = sent[j];
-              const double      ku = row_product(i);
-              const double      ai = (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
-              sent_values[j]       = u[i] + dt * (vh[i] + dt * ai);
+              const std::size_t i = sent[j];
+              sent_values[j] = u[i] + dt * (vh[i] + dt * acceleration_of(i));
             }
-          row_exchange.start_ghost_update(sent_values,
-                                          ghost_update_tag,
-                                          ghosts_under_way);
+          for (std::size_t j = 0; j < moved.size(); ++j)
+            {
+              const std::size_t i          = moved[j];
+              sent_values[sent.size() + j] = vh[i] + dt * acceleration_of(i);
+            }
+          if (moving)
+            row_exchange.start_move(sent_values,
+                                    ghost_update_tag,
+                                    ghosts_under_way);
+          else
+            row_exchange.start_ghost_update(sent_values,
+                                            ghost_update_tag,
+                                            ghosts_under_way);
         }
     StepEnergies energies = sum_over_blocks(
       n,
@@ -913,10 +948,16 @@ namespace isoimpact
         for (const auto i : row_exchange.ghost_unknowns())
           force[i] = 0.;
         if (u_ahead != nullptr)
-          for (std::size_t j = 0; j < sent.size(); ++j)
-            AssertThrow(sent_values[j] == u_ahead[sent[j]],
-                        ExcMessage("the displacement sent ahead differs "
-                                   "from the pass's (same bits expected)"));
+          {
+            for (std::size_t j = 0; j < sent.size(); ++j)
+              AssertThrow(sent_values[j] == u_ahead[sent[j]],
+                          ExcMessage("the displacement sent ahead differs "
+                                     "from the pass's (same bits expected)"));
+            for (std::size_t j = 0; j < moved.size(); ++j)
+              AssertThrow(sent_values[sent.size() + j] == vh[moved[j]],
+                          ExcMessage("the velocity sent ahead differs "
+                                     "from the pass's (same bits expected)"));
+          }
       }
     energies.kinetic *= 0.5;
     energies.strain *= 0.5;
@@ -968,9 +1009,8 @@ namespace isoimpact
 
   template <int dim>
   void
-  ElasticBody<dim>::advance_displacement(
-    const Vector<double> &half_step_velocity,
-    const double          dt)
+  ElasticBody<dim>::advance_displacement(Vector<double> &half_step_velocity,
+                                         const double    dt)
   {
     if (!row_exchange.is_distributed() || replicated_state)
       {
@@ -982,21 +1022,31 @@ namespace isoimpact
         displacement_ahead_step == dt)
       {
         // Formed by the last pass: its owned entries are those of the
-        // update below; the ghosts the owners sent from their passes.
+        // update below; the ghosts the owners sent from their passes, and
+        // with them the rows of a move and their velocity: this rank
+        // switches to the new split here. A move due now goes with the
+        // next pass.
         displacement.swap(displacement_ahead);
         displacement_ahead_velocity = nullptr;
-        row_exchange.complete_ghost_update(displacement, ghosts_under_way);
+        if (ghosts_under_way.move)
+          row_exchange.complete_move(&displacement,
+                                     &half_step_velocity,
+                                     ghosts_under_way);
+        else
+          row_exchange.complete_ghost_update(displacement, ghosts_under_way);
         ghosts_received = true;
         return;
       }
-    // (Ghosts sent ahead that are not needed.)
-    row_exchange.complete_ghost_update(displacement_ahead, ghosts_under_way);
+    drop_ghosts_sent_ahead(); // not needed
     for (const auto &[first, end] : row_exchange.owned_ranges())
       advance_range(displacement.data(),
                     half_step_velocity.data(),
                     dt,
                     first,
                     end);
+    // A move due: here, the ranks meet (the ghosts then follow the new
+    // split in the caller's update).
+    row_exchange.apply_split({&displacement, &half_step_velocity});
   }
 
   template <int dim>
@@ -1121,13 +1171,6 @@ namespace isoimpact
   ElasticBody<dim>::displacement_ghosts_received() const
   {
     return ghosts_received;
-  }
-
-  template <int dim>
-  void
-  ElasticBody<dim>::apply_load_balancing(Vector<double> &half_step_velocity)
-  {
-    row_exchange.apply_split({&displacement, &half_step_velocity});
   }
 
   template <int dim>

@@ -297,6 +297,7 @@ namespace isoimpact
            {"split_bounds_layers",
             {exchange.split_bounds().first, exchange.split_bounds().second}},
            {"moves", exchange.n_moves()},
+           {"moves_without_meeting", exchange.n_moves_without_meeting()},
            {"owned_unknowns_per_rank", exchange.owned_counts()},
            {"pass_time_per_row_s", exchange.pass_time_per_row()}});
       }

@@ -293,23 +293,16 @@ namespace isoimpact
     else
       {
         // The ghosts of the displacement come with it if their owners sent
-        // them from the last pass; the others here. A move of the load
-        // balancing changes the ghosts: then all of them here.
-        bool moved = false;
+        // them from the last pass (and rows of the load balancing's moves);
+        // the others here.
         for (unsigned int b = 0; b < bodies.size(); ++b)
-          {
-            bodies[b]->advance_displacement(half_step_velocity[b], dt);
-            // Load balancing: rows move between the ranks (collective).
-            const unsigned int moves = bodies[b]->exchange().n_moves();
-            bodies[b]->apply_load_balancing(half_step_velocity[b]);
-            moved |= bodies[b]->exchange().n_moves() != moves;
-          }
+          bodies[b]->advance_displacement(half_step_velocity[b], dt);
         std::vector<std::pair<const UnknownExchange *, Vector<double> *>>
           to_update;
         for (unsigned int v = 0; v < ghost_vectors.size(); ++v)
           {
             const unsigned int b = ghost_vector_displacement_of[v];
-            if (moved || b == numbers::invalid_unsigned_int ||
+            if (b == numbers::invalid_unsigned_int ||
                 !bodies[b]->displacement_ghosts_received())
               to_update.push_back(ghost_vectors[v]);
           }

@@ -115,7 +115,9 @@ namespace isoimpact
                        const std::vector<double>            &seconds);
     // Moves the rows to the split observe_pass_times() chose: their entries
     // of `state` (each vector whole-sized) go to their new owner, and the
-    // ghost lists follow. Nothing to do if the split is unchanged.
+    // ghost lists follow. Nothing to do if the split is unchanged. The
+    // ranks meet here (blocking messages): see start_move() for a move
+    // that needs no meeting.
     void
     apply_split(const std::vector<dealii::Vector<double> *> &state);
     // The present split (0: the partition's; > 0: rank 0 owns that many
@@ -174,6 +176,8 @@ namespace isoimpact
       std::vector<MPI_Request>                        receive_requests;
       unsigned int                                    last_sends = 0;
       bool                                            started    = false;
+      // A move's update (start_move()): complete it with complete_move().
+      bool move = false;
     };
     // The owned unknowns that other ranks read, peer after peer in one list:
     // the order in which start_ghost_update() takes their values.
@@ -192,6 +196,46 @@ namespace isoimpact
     void
     complete_ghost_update(dealii::Vector<double> &vector,
                           UpdateUnderWay         &update) const;
+
+    // A move without a meeting (doc/parallel.md, session 36): the pass
+    // that forms the next displacement ahead sends, with the rows the
+    // other rank reads, the state of the rows that change hands, and the
+    // ranks switch to the new split where that update completes.
+    // Whether observe_pass_times() chose a split that no move is under
+    // way to yet.
+    bool
+    move_is_due() const;
+    // The due move's lists (fixed until it completes or is cancelled): this
+    // rank's unknowns whose next displacement it sends (those the other
+    // rank reads at the new split or takes over; ascending), and the rows
+    // it gives up, whose next half-step velocity goes along.
+    void
+    prepare_move();
+    const std::vector<dealii::types::global_dof_index> &
+    move_sent_unknowns() const;
+    const std::vector<dealii::types::global_dof_index> &
+    move_sent_rows() const;
+    // Sends `values` (the displacement of move_sent_unknowns(), then the
+    // velocity of move_sent_rows()) and posts the receive of the other
+    // rank's, without waiting (as start_ghost_update(), which it replaces
+    // in that pass).
+    void
+    start_move(const std::vector<double> &values,
+               const int                  tag,
+               UpdateUnderWay            &update);
+    // Waits for the move's messages: `displacement` and
+    // `half_step_velocity` receive the other rank's entries, and this rank
+    // switches to the new split. Without the vectors the move is cancelled
+    // (the values are dropped, the split stays and the rows their owners
+    // kept compute on): for a step that does not take the displacement
+    // formed ahead. Nothing to do if `update` is no move.
+    void
+    complete_move(dealii::Vector<double> *displacement,
+                  dealii::Vector<double> *half_step_velocity,
+                  UpdateUnderWay         &update);
+    // The moves that were made that way (counted in n_moves() too).
+    unsigned int
+    n_moves_without_meeting() const;
 
     // A sum over the ranks under way (start_sum()).
     struct SumUnderWay
@@ -241,8 +285,13 @@ namespace isoimpact
     LoadBalancing balancing  = LoadBalancing::off;
     bool          whole_body = false;
     int min_split = 0, max_split = 0, present_split = 0, next_split = 0,
-        sweep_direction                                             = 1;
-    unsigned int                                              moves = 0;
+        sweep_direction = 1;
+    unsigned int moves = 0, moves_without_meeting = 0;
+    // A move sent ahead (start_move()) to move_target, and its lists.
+    bool                                         move_in_flight = false;
+    int                                          move_target    = 0;
+    std::vector<dealii::types::global_dof_index> move_sent, move_received,
+      move_sent_velocity_rows, move_received_velocity_rows;
     std::vector<int>                                          layer_of_shared;
     std::vector<dealii::types::global_dof_index>              shared_unknowns;
     std::vector<std::vector<dealii::types::global_dof_index>> layer_lists;
@@ -254,6 +303,24 @@ namespace isoimpact
     // Lists, ranges and counts for the present split.
     void
     set_up_split();
+    // The unknowns rank p reads from the other at a split (sorted): the
+    // other's layer next to the interface and the shared unknowns it owns.
+    std::vector<dealii::types::global_dof_index>
+    needs_at(const unsigned int p, const int split) const;
+    // The layers' rows between the present split and `target` (sorted),
+    // and the rank that gives them up.
+    std::vector<dealii::types::global_dof_index>
+    rows_between(const int target) const;
+    // Posts the receives of `update` (receive_size(k) values from peer k)
+    // and sends `values` (send_size(k) of them to peer k, in the peers'
+    // order), without waiting.
+    template <typename SendSize, typename ReceiveSize>
+    void
+    post_update(const std::vector<double> &values,
+                const SendSize            &send_size,
+                const ReceiveSize         &receive_size,
+                const int                  tag,
+                UpdateUnderWay            &update) const;
     // ranges and range_offsets from owned_here.
     void
     set_up_ranges();

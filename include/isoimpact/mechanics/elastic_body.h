@@ -286,10 +286,14 @@ namespace isoimpact
     state_is_replicated() const;
     // u += dt v: on one process the whole displacement; on several ranks
     // the owned entries (the ghosts must then come from their owners),
-    // taken from the last pass if it formed them ahead.
+    // taken from the last pass if it formed them ahead. Several ranks with
+    // load balancing: a move the last pass sent ahead completes here (the
+    // rows this rank takes over receive their displacement and their
+    // entries of half_step_velocity, without a meeting); else a move due
+    // is made here (collective, the ranks meet).
     void
-    advance_displacement(const dealii::Vector<double> &half_step_velocity,
-                         const double                  dt);
+    advance_displacement(dealii::Vector<double> &half_step_velocity,
+                         const double            dt);
     // One process: u_i += dt v_i for the unknowns in `rows` (ascending,
     // unique) alone, or with `all_but_rows` for all the others. The two
     // calls together are advance_displacement(), with its bits, and touch
@@ -329,14 +333,9 @@ namespace isoimpact
     // Several ranks: whether the ghosts of `displacement` came with the last
     // advance_displacement() (the owners sent them from the pass before,
     // which formed the displacement ahead); else the caller must update
-    // them.
+    // them (after a move of the load balancing too).
     bool
     displacement_ghosts_received() const;
-    // Load balancing: the rows move to the split chosen by the last
-    // sum_step_energies() (their displacement and the half-step velocity
-    // go along). Before the ghost exchange of a step; collective.
-    void
-    apply_load_balancing(dealii::Vector<double> &half_step_velocity);
     // Displacement, velocity and acceleration complete on every rank (for
     // the output; nothing on one process).
     void
@@ -438,6 +437,10 @@ namespace isoimpact
     std::vector<double>             sent_values;
     UnknownExchange::UpdateUnderWay ghosts_under_way;
     bool                            ghosts_received = false;
+    // Waits for the ghosts sent ahead and drops them (and cancels a move
+    // sent with them).
+    void
+    drop_ghosts_sent_ahead();
     // The next displacement the pass formed ahead, the step and the
     // velocity vector it belongs to (none: nullptr).
     dealii::Vector<double>            displacement_ahead;
