@@ -163,21 +163,107 @@ namespace isoimpact
   void
   UnknownExchange::set_up_split()
   {
-    // Owned, in ascending order (the serial pass's order of the rows):
-    // rank 0 the layers <= present_split, rank 1 the others.
-    // (Sized exactly: these lists are as long as the rank's rows.)
+    // Rank 0 owns the layers <= present_split, rank 1 the others.
+    for (types::global_dof_index i = 0; i < owner_of.size(); ++i)
+      owned_here[i] = owner_of[i] == rank;
+    owned_lists_stale = true;
+    for (unsigned int p = 0; p < 2; ++p)
+      owned_count[p] = std::count(owner_of.begin(), owner_of.end(), p);
+    set_up_ranges();
+    set_up_ghosts();
+  }
+
+  void
+  UnknownExchange::switch_split(const int target)
+  {
+    // Only the rows that change hands are touched (a move costs no pass
+    // over all unknowns): their owner, the counts and this rank's ranges
+    // (with them added or taken out). The lists of owned unknowns follow
+    // when they are read (refresh_owned_lists()).
+    const auto         moved = rows_between(target);
+    const unsigned int from  = target > present_split ? 1 : 0;
+    for (const auto i : moved)
+      {
+        owner_of[i]   = 1 - from;
+        owned_here[i] = (1 - from) == rank;
+      }
+    owned_count[from] -= moved.size();
+    owned_count[1 - from] += moved.size();
+    owned_lists_stale = true;
+    // The moved rows as ranges, then this rank's ranges with or without
+    // them (both lists ascending and disjoint).
+    std::vector<std::pair<types::global_dof_index, types::global_dof_index>>
+      moved_ranges, joined;
+    for (const auto i : moved)
+      if (!moved_ranges.empty() && moved_ranges.back().second == i)
+        ++moved_ranges.back().second;
+      else
+        moved_ranges.emplace_back(i, i + 1);
+    if (rank != from)
+      {
+        std::vector<std::pair<types::global_dof_index, types::global_dof_index>>
+          all;
+        all.reserve(ranges.size() + moved_ranges.size());
+        std::merge(ranges.begin(),
+                   ranges.end(),
+                   moved_ranges.begin(),
+                   moved_ranges.end(),
+                   std::back_inserter(all));
+        for (const auto &range : all)
+          if (!joined.empty() && joined.back().second == range.first)
+            joined.back().second = range.second;
+          else
+            joined.push_back(range);
+      }
+    else
+      {
+        std::size_t m = 0;
+        for (auto [first, end] : ranges)
+          {
+            while (m < moved_ranges.size() && moved_ranges[m].second <= first)
+              ++m;
+            for (; m < moved_ranges.size() && moved_ranges[m].first < end; ++m)
+              {
+                if (moved_ranges[m].first > first)
+                  joined.emplace_back(first, moved_ranges[m].first);
+                first = std::max(first, moved_ranges[m].second);
+                if (moved_ranges[m].second > end)
+                  break;
+              }
+            if (first < end)
+              joined.emplace_back(first, end);
+          }
+      }
+    ranges.swap(joined);
+    range_offsets.assign(1, 0);
+    for (const auto &[first, end] : ranges)
+      range_offsets.push_back(range_offsets.back() + (end - first));
+    AssertThrow(range_offsets.back() == owned_count[rank], ExcInternalError());
+    present_split = target;
+    set_up_ghosts();
+  }
+
+  void
+  UnknownExchange::refresh_owned_lists() const
+  {
+    if (!owned_lists_stale)
+      return;
+    // In ascending order (the serial pass's order of the rows), sized
+    // exactly: these lists are as long as the rank's rows.
     for (unsigned int p = 0; p < 2; ++p)
       {
         owned_by_rank[p].clear();
         owned_by_rank[p].shrink_to_fit();
-        owned_by_rank[p].reserve(
-          std::count(owner_of.begin(), owner_of.end(), p));
+        owned_by_rank[p].reserve(owned_count[p]);
       }
     for (types::global_dof_index i = 0; i < owner_of.size(); ++i)
       owned_by_rank[owner_of[i]].push_back(i);
-    for (types::global_dof_index i = 0; i < owner_of.size(); ++i)
-      owned_here[i] = owner_of[i] == rank;
-    set_up_ranges();
+    owned_lists_stale = false;
+  }
+
+  void
+  UnknownExchange::set_up_ghosts()
+  {
     ghosts        = needs_at(rank, present_split);
     peers         = {1 - rank};
     send_lists    = {needs_at(1 - rank, present_split)};
@@ -243,14 +329,23 @@ namespace isoimpact
   {
     if (owned_by_rank.empty())
       return {};
+    refresh_owned_lists();
     return make_array_view(owned_by_rank[rank]);
+  }
+
+  types::global_dof_index
+  UnknownExchange::n_owned_unknowns() const
+  {
+    return range_offsets.empty() ? 0 : range_offsets.back();
   }
 
   std::vector<types::global_dof_index>
   UnknownExchange::rows_to_store() const
   {
-    return balancing == LoadBalancing::off ? owned_by_rank[rank] :
-                                             potential_rows;
+    if (balancing != LoadBalancing::off)
+      return potential_rows;
+    return std::vector<types::global_dof_index>(owned_unknowns().begin(),
+                                                owned_unknowns().end());
   }
 
   bool
@@ -280,6 +375,8 @@ namespace isoimpact
   std::vector<types::global_dof_index>
   UnknownExchange::owned_counts() const
   {
+    if (balancing != LoadBalancing::off)
+      return {owned_count[0], owned_count[1]};
     std::vector<types::global_dof_index> counts;
     for (const auto &rows : owned_by_rank)
       counts.push_back(rows.size());
@@ -344,7 +441,7 @@ namespace isoimpact
     std::array<double, 2> rows = {{0., 0.}};
     for (const auto *exchange : exchanges)
       for (unsigned int p = 0; p < 2; ++p)
-        rows[p] += exchange->owned_by_rank[p].size();
+        rows[p] += exchange->owned_count[p];
     for (auto *exchange : exchanges)
       exchange->next_split = exchange->present_split;
     if (++first.n_observations <= 5)
@@ -452,12 +549,8 @@ namespace isoimpact
             for (const auto i : layer_lists[s - min_split])
               (*vector)[i] = buffer[k++];
       }
-    for (int s = low; s <= high; ++s)
-      for (const auto i : layer_lists[s - min_split])
-        owner_of[i] = 1 - from;
-    present_split = next_split;
+    switch_split(next_split);
     ++moves;
-    set_up_split();
   }
 
   bool
@@ -561,13 +654,9 @@ namespace isoimpact
       (*displacement)[i] = received[k++];
     for (const auto i : move_received_velocity_rows)
       (*half_step_velocity)[i] = received[k++];
-    const unsigned int from = move_target > present_split ? 1 : 0;
-    for (const auto i : rows_between(move_target))
-      owner_of[i] = 1 - from;
-    present_split = move_target;
+    switch_split(move_target);
     ++moves;
     ++moves_without_meeting;
-    set_up_split();
   }
 
   unsigned int
@@ -670,6 +759,7 @@ namespace isoimpact
   {
     if (n_procs == 1)
       return;
+    refresh_owned_lists();
     // Each rank's owned entries in turn, in pieces broadcast from their
     // owner: no buffer of the vector's length (this runs at the memory
     // peak, in the initial acceleration).

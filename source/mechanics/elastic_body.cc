@@ -766,9 +766,8 @@ namespace isoimpact
     // On several ranks the owned unknowns, as ranges of rows (ascending);
     // the energies' blocks count them in this order.
     const auto       &ranges = row_exchange.owned_ranges();
-    const std::size_t n      = owned_rows_only ?
-                                 row_exchange.owned_unknowns().size() :
-                                 displacement.size();
+    const std::size_t n =
+      owned_rows_only ? row_exchange.n_owned_unknowns() : displacement.size();
     // Where each range starts in the count of owned unknowns.
     const auto &range_offsets = row_exchange.owned_range_offsets();
     stiffness_times_u.reinit(0); // not computed: see above

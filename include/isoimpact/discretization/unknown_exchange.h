@@ -80,6 +80,9 @@ namespace isoimpact
     owned_unknowns() const;
     const std::vector<dealii::types::global_dof_index> &
     ghost_unknowns() const;
+    // Their number (owned_unknowns().size(), without forming the list).
+    dealii::types::global_dof_index
+    n_owned_unknowns() const;
     // The owned unknowns as ranges [first, end) (ascending).
     const std::vector<std::pair<dealii::types::global_dof_index,
                                 dealii::types::global_dof_index>> &
@@ -274,8 +277,13 @@ namespace isoimpact
     // The send lists one after the other (sent_unknowns()).
     std::vector<dealii::types::global_dof_index> all_sent;
     // Every rank's owned unknowns (sorted; this rank's are
-    // owned_unknowns(), all of them serve gather()).
-    std::vector<std::vector<dealii::types::global_dof_index>> owned_by_rank;
+    // owned_unknowns(), all of them serve gather()). With load balancing
+    // formed again where read after a move (refresh_owned_lists()), and
+    // counted in owned_count.
+    mutable std::vector<std::vector<dealii::types::global_dof_index>>
+                                                   owned_by_rank;
+    mutable bool                                   owned_lists_stale = false;
+    std::array<dealii::types::global_dof_index, 2> owned_count       = {{0, 0}};
     // Load balancing over 2 ranks (see LoadBalancing): layer_lists[s -
     // min_split] holds the unknowns of layer s (sorted), s = min_split ..
     // max_split + 1; rank 0 owns the layers <= present_split, rank 1 the
@@ -303,6 +311,16 @@ namespace isoimpact
     // Lists, ranges and counts for the present split.
     void
     set_up_split();
+    // The same after the layers between the present split and `target`
+    // changed hands (the present split becomes `target`).
+    void
+    switch_split(const int target);
+    // The lists of owned unknowns from owner_of, if a split changed them.
+    void
+    refresh_owned_lists() const;
+    // The ghosts and the send and receive lists of the present split.
+    void
+    set_up_ghosts();
     // The unknowns rank p reads from the other at a split (sorted): the
     // other's layer next to the interface and the shared unknowns it owns.
     std::vector<dealii::types::global_dof_index>
