@@ -124,16 +124,19 @@ def run(program, prm, work, ranks, threads, poll_memory=False):
     return (summary["wall_time_parts_s"]["time_loop"] / summary["steps"],
             max(rss) if rss else float("nan"),
             max(anonymous.values()) if anonymous else float("nan"), summary["unknowns"],
-            summary.get("rank_splits", []))
+            summary.get("rank_splits", []),
+            [w / summary["steps"] for w in summary.get("mpi_wait_s_per_rank", [])])
 
 
-def describe_splits(splits, step):
+def describe_splits(splits, step, waits):
     """The load balancing of a run on 2 ranks: each body's final split
     (layers; its bounds), its moves, the ranks' averaged pass times per
     row that chose it, and each rank's pass per step from them (the sum over
     the bodies of time per row x owned rows; averaged over about the last
     twenty steps) against the run's time per step `step` (s): what is left
-    is the rank's work outside the pass and its waiting."""
+    is the rank's work outside the pass and its waiting. Then each rank's
+    waits for the other's messages per step (`waits`, s; mpi_wait_s_per_rank
+    of summary.json over the steps)."""
     parts = []
     for split in splits:
         if not split.get("load_balancing"):
@@ -150,6 +153,8 @@ def describe_splits(splits, step):
                   for p in range(2)]
         parts.append("pass per step " + "/".join(f"{1e3 * t:.2f}" for t in passes) +
                      f" ms of {1e3 * step:.2f} ms")
+    if parts and waits:
+        parts.append("waits per step " + "/".join(f"{1e3 * w:.2f}" for w in waits) + " ms")
     return "; ".join(parts)
 
 
@@ -225,12 +230,13 @@ def main():
                 balancing = []
                 for _ in range(args.repeats):
                     for name, ranks, threads in CONFIGS:
-                        step, rss, _, unknowns, splits = run(program, edited, work, ranks,
-                                                                threads)
+                        step, rss, _, unknowns, splits, waits = run(program, edited, work,
+                                                                       ranks, threads)
                         times[name].append(step)
                         memory[name] = rss
-                        if ranks == 2 and describe_splits(splits, step):
-                            balancing.append(f"{1e3 * step:.2f} ms: {describe_splits(splits, step)}")
+                        if ranks == 2 and describe_splits(splits, step, waits):
+                            balancing.append(f"{1e3 * step:.2f} ms: "
+                                             f"{describe_splits(splits, step, waits)}")
                 # The anonymous memory in runs of its own (see above).
                 for name, ranks, threads in CONFIGS:
                     anonymous[name] = run(program, edited, work, ranks, threads,

@@ -594,6 +594,11 @@ namespace isoimpact
     for (auto *body : scene.body_pointers())
       body->gather_state();
     RunFacts facts;
+    // What each rank lost waiting for the others' messages.
+    if (n_ranks > 1)
+      facts.seconds_waiting_per_rank =
+        Utilities::MPI::gather(MPI_COMM_WORLD,
+                               UnknownExchange::seconds_waiting());
     facts.time_step                = time_step;
     facts.stable                   = stable;
     facts.ranks_meet_at_every_step = integrator->ranks_meet_at_every_step();
@@ -651,6 +656,14 @@ namespace isoimpact
           << loop_time << " s, output " << output_time << " s (ParaView "
           << paraview_time << " s), total " << facts.total_wall_time
           << " s (summary.json: wall_time_parts_s)" << std::endl;
+    if (n_ranks > 1 && is_root)
+      {
+        std::cout << "  waits for the other ranks' messages:";
+        for (unsigned int p = 0; p < n_ranks; ++p)
+          std::cout << (p == 0 ? " " : ", ") << "rank " << p << ' '
+                    << facts.seconds_waiting_per_rank[p] << " s";
+        std::cout << " (summary.json: mpi_wait_s_per_rank)" << std::endl;
+      }
     return 0;
   }
 } // namespace isoimpact

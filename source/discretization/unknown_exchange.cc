@@ -5,11 +5,39 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 
 using namespace dealii;
 
 namespace isoimpact
 {
+  namespace
+  {
+    // This process's time in waits for the steps' messages
+    // (UnknownExchange::seconds_waiting()), and a clock that adds the time
+    // of its scope to it.
+    double seconds_waiting_for_messages = 0.;
+
+    struct WaitClock
+    {
+      const std::chrono::steady_clock::time_point start =
+        std::chrono::steady_clock::now();
+      ~WaitClock()
+      {
+        seconds_waiting_for_messages +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                        start)
+            .count();
+      }
+    };
+  } // namespace
+
+  double
+  UnknownExchange::seconds_waiting()
+  {
+    return seconds_waiting_for_messages;
+  }
+
   unsigned int
   n_world_ranks()
   {
@@ -525,6 +553,7 @@ namespace isoimpact
           for (int s = low; s <= high; ++s)
             for (const auto i : layer_lists[s - min_split])
               buffer[k++] = (*vector)[i];
+        WaitClock clock;
         const int ierr = MPI_Send(buffer.data(),
                                   buffer.size(),
                                   MPI_DOUBLE,
@@ -535,6 +564,7 @@ namespace isoimpact
       }
     else
       {
+        WaitClock clock;
         const int ierr = MPI_Recv(buffer.data(),
                                   buffer.size(),
                                   MPI_DOUBLE,
@@ -636,10 +666,13 @@ namespace isoimpact
   {
     if (!update.started || !update.move)
       return;
-    const int ierr = MPI_Waitall(update.receive_requests.size(),
-                                 update.receive_requests.data(),
-                                 MPI_STATUSES_IGNORE);
-    AssertThrowMPI(ierr);
+    {
+      WaitClock clock;
+      const int ierr = MPI_Waitall(update.receive_requests.size(),
+                                   update.receive_requests.data(),
+                                   MPI_STATUSES_IGNORE);
+      AssertThrowMPI(ierr);
+    }
     update.started = false;
     update.move    = false;
     move_in_flight = false;
@@ -866,10 +899,14 @@ namespace isoimpact
     update.last_sends   = 1 - update.last_sends;
     auto &sends         = update.sends[update.last_sends];
     auto &send_requests = update.send_requests[update.last_sends];
-    int   ierr          = MPI_Waitall(send_requests.size(),
-                           send_requests.data(),
-                           MPI_STATUSES_IGNORE);
-    AssertThrowMPI(ierr);
+    int   ierr;
+    {
+      WaitClock clock;
+      ierr = MPI_Waitall(send_requests.size(),
+                         send_requests.data(),
+                         MPI_STATUSES_IGNORE);
+      AssertThrowMPI(ierr);
+    }
     send_requests.assign(peers.size(), MPI_REQUEST_NULL);
     update.receive_requests.assign(peers.size(), MPI_REQUEST_NULL);
     sends.resize(peers.size());
@@ -911,10 +948,13 @@ namespace isoimpact
     if (!update.started)
       return;
     AssertThrow(!update.move, ExcMessage("a move: see complete_move()"));
-    const int ierr = MPI_Waitall(update.receive_requests.size(),
-                                 update.receive_requests.data(),
-                                 MPI_STATUSES_IGNORE);
-    AssertThrowMPI(ierr);
+    {
+      WaitClock clock;
+      const int ierr = MPI_Waitall(update.receive_requests.size(),
+                                   update.receive_requests.data(),
+                                   MPI_STATUSES_IGNORE);
+      AssertThrowMPI(ierr);
+    }
     update.started = false;
     finish_update(vector, update.receives);
   }
@@ -947,8 +987,11 @@ namespace isoimpact
     values = sum.own;
     if (!sum.started)
       return;
-    const int ierr = MPI_Wait(&sum.request, MPI_STATUS_IGNORE);
-    AssertThrowMPI(ierr);
+    {
+      WaitClock clock;
+      const int ierr = MPI_Wait(&sum.request, MPI_STATUS_IGNORE);
+      AssertThrowMPI(ierr);
+    }
     sum.started = false;
     // Gathered and summed in the ranks' order: the same bits everywhere.
     for (std::size_t j = 0; j < values.size(); ++j)

@@ -283,6 +283,7 @@ namespace isoimpact
     summary["mpi_ranks"]                = n_world_ranks();
     summary["bodies_whole_on_ranks"]    = scene.bodies_on_ranks;
     summary["ranks_meet_at_every_step"] = facts.ranks_meet_at_every_step;
+    summary["mpi_wait_s_per_rank"]      = facts.seconds_waiting_per_rank;
     summary["rank_splits"]              = nlohmann::ordered_json::array();
     for (const auto &body : scene.bodies)
       {

@@ -167,6 +167,15 @@ for case in sys.argv[4:]:
                     split["moves"] if ahead else 0, 0)
     check_true(f"{label}: the progress is printed once (rank 0)",
                stdout.count("max energy error") == 1)
+    # Each rank's waits for the others' messages: part of its run.
+    waits = parallel_summary["mpi_wait_s_per_rank"]
+    check_true(f"{label}: waits for messages per rank {waits} s, each within "
+               f"the run's {parallel_summary['wall_time_parts_s']['total']} s",
+               len(waits) == ranks and
+               all(0. <= w <= parallel_summary["wall_time_parts_s"]["total"]
+                   for w in waits))
+    check_true(f"{label}: the serial run reports no waits",
+               serial_summary["mpi_wait_s_per_rank"] == [])
     damping = float(edits.get("Contact/Damping ratio", "0"))
     loose = (scheme != "consistent" and not (method == "fea" and local != "0") and
              edits.get("Contact/Bipenalty", "false") == "false" and

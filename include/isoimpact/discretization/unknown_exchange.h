@@ -258,6 +258,14 @@ namespace isoimpact
     double
     max(const double value) const;
 
+    // This process's time (s) in waits for other ranks' messages of the
+    // steps, over all exchanges so far: the ghosts' and the moves'
+    // receives, the sends' buffers, the sums and the blocking moves (not
+    // gather(), which serves the output). What a rank loses to the
+    // others; 0 on one process.
+    static double
+    seconds_waiting();
+
   private:
     MPI_Comm     comm    = MPI_COMM_SELF;
     unsigned int n_procs = 1;

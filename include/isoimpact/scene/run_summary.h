@@ -89,6 +89,9 @@ namespace isoimpact
     // Several MPI ranks: whether they met at every step
     // (CentralDifference::ranks_meet_at_every_step()).
     bool ranks_meet_at_every_step = true;
+    // ... and each rank's time (s) in waits for the others' messages
+    // (UnknownExchange::seconds_waiting(); empty on one process).
+    std::vector<double> seconds_waiting_per_rank;
   };
 
   class RunSummary
