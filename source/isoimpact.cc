@@ -621,11 +621,16 @@ namespace isoimpact
         facts.stop_reason = unstable_message(failure);
       }
     if (is_root)
-      summary->write_json(parameters.output_directory + "/summary.json",
-                          parameters,
-                          parameter_file,
-                          scene,
-                          facts);
+      {
+        summary->write_json(parameters.output_directory + "/summary.json",
+                            parameters,
+                            parameter_file,
+                            scene,
+                            facts);
+        RunSummary::write_pass_times(parameters.output_directory +
+                                       "/pass_times.csv",
+                                     scene);
+      }
     if (!failure.empty())
       {
         if (is_root)

@@ -417,6 +417,12 @@ namespace isoimpact
     return cost_per_row;
   }
 
+  const std::vector<UnknownExchange::PassRecord> &
+  UnknownExchange::pass_time_history() const
+  {
+    return pass_history;
+  }
+
   void
   UnknownExchange::observe_pass_times(const std::vector<double> &seconds)
   {
@@ -458,36 +464,43 @@ namespace isoimpact
           exchange->observe_pass_times(seconds);
         return;
       }
-    // (None while a move is under way: the pass timed the rows of a split
-    // about to change.)
-    for (const auto *exchange : exchanges)
-      if (exchange->move_in_flight)
-        return;
-    // Each rank's rows over all bodies, and its time per row averaged over
-    // about twenty steps (the first five, with their page faults, left
-    // out; the state kept in the first exchange).
+    // Each rank's rows over all bodies (the state kept in the first
+    // exchange), and the pass recorded (pass_time_history()).
     std::array<double, 2> rows = {{0., 0.}};
     for (const auto *exchange : exchanges)
       for (unsigned int p = 0; p < 2; ++p)
         rows[p] += exchange->owned_count[p];
+    first.pass_history.push_back({{{seconds[0], seconds[1]}}, rows});
+    // None while a move is under way: the pass timed the rows of a split
+    // about to change.
+    for (const auto *exchange : exchanges)
+      if (exchange->move_in_flight)
+        return;
     for (auto *exchange : exchanges)
       exchange->next_split = exchange->present_split;
-    if (++first.n_observations <= 5)
+    // Each rank's time per row: the mean of the steps so far, then an
+    // exponential average over about twenty steps (the first three, with
+    // their page faults, left out). A move needs five such steps, and ten
+    // since the last move (doc/parallel.md, session 37: replayed on
+    // recorded pass times, a first move after 20 steps and 20 between
+    // moves, from an average that the first step weighs half of, cost
+    // 0.3-2.9 % more time than this).
+    constexpr unsigned int skipped = 3, least_averaged = 5, least_between = 10;
+    if (++first.n_observations <= skipped)
       return;
-    constexpr double weight = 0.05;
+    const unsigned int averaged = first.n_observations - skipped;
+    const double       weight   = std::max(1. / averaged, 0.05);
     for (unsigned int p = 0; p < 2; ++p)
       {
         const double cost = seconds[p] / std::max(rows[p], 1.);
-        first.cost_per_row[p] =
-          (first.n_observations == 6) ?
-            cost :
-            first.cost_per_row[p] + weight * (cost - first.cost_per_row[p]);
+        first.cost_per_row[p] += weight * (cost - first.cost_per_row[p]);
       }
     for (auto *exchange : exchanges)
       exchange->cost_per_row = first.cost_per_row;
     const auto &cost = first.cost_per_row;
-    if (!(cost[0] > 0. && cost[1] > 0.) ||
-        first.n_observations < first.last_move_observation + 20)
+    if (!(cost[0] > 0. && cost[1] > 0.) || averaged < least_averaged ||
+        (first.last_move_observation > 0 &&
+         first.n_observations < first.last_move_observation + least_between))
       return;
     // The positions of a cursor over the bands of all bodies in turn (each
     // from its min_split to its max_split): rank 0's rows at each, and the

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 
 using namespace dealii;
 
@@ -353,6 +354,33 @@ namespace isoimpact
 
     write_by_rename(path, [&](std::ostream &out) {
       out << summary.dump(2) << '\n';
+    });
+  }
+
+  void
+  RunSummary::write_pass_times(const std::string &path, const Scene &scene)
+  {
+    std::vector<std::pair<std::string, const UnknownExchange *>> balanced;
+    for (const auto &body : scene.bodies)
+      if (!body->exchange().pass_time_history().empty())
+        balanced.emplace_back(body->exchange().balances_whole_body() ?
+                                "bodies whole on ranks" :
+                                body->name(),
+                              &body->exchange());
+    if (balanced.empty())
+      return;
+    write_by_rename(path, [&](std::ostream &out) {
+      out << "balanced,pass,rank_0_pass_s,rank_1_pass_s,rank_0_rows,"
+             "rank_1_rows\n"
+          << std::setprecision(17);
+      for (const auto &[name, exchange] : balanced)
+        {
+          unsigned int pass = 0;
+          for (const auto &record : exchange->pass_time_history())
+            out << name << ',' << ++pass << ',' << record.seconds[0] << ','
+                << record.seconds[1] << ',' << record.rows[0] << ','
+                << record.rows[1] << '\n';
+        }
     });
   }
 } // namespace isoimpact

@@ -30,6 +30,7 @@ without hanging nodes, no bipenalty, mass redistribution or contact
 damping; doc/parallel.md, session 34) they say so in summary.json; with a
 History interval above 1 the energies are then summed one step late at the
 steps the history does not write."""
+import csv
 import json
 import os
 import re
@@ -176,6 +177,41 @@ for case in sys.argv[4:]:
                    for w in waits))
     check_true(f"{label}: the serial run reports no waits",
                serial_summary["mpi_wait_s_per_rank"] == [])
+    # The measured balancing's passes (pass_times.csv): one per step for
+    # each balanced body (or for the bodies whole on ranks together), each
+    # rank's rows adding up to the balanced unknowns, each pass time within
+    # the run; none without it, none on one process.
+    passes_file = os.path.join(workdir, f"{label}_{ranks}_ranks", "pass_times.csv")
+    balanced = {}
+    if os.path.exists(passes_file):
+        with open(passes_file) as file:
+            for row in csv.DictReader(file):
+                balanced.setdefault(row["balanced"], []).append(row)
+    measured = [split for split in splits
+                if balancing == "measured" and split["load_balancing"]]
+    expected_groups = ({"bodies whole on ranks"} if whole and measured else
+                       {split["body"] for split in measured})
+    check_true(f"{label}: pass times recorded for {sorted(balanced)}, "
+               f"{sorted(expected_groups)} expected", set(balanced) == expected_groups)
+    # (The last step's pass times come with its energies' sum: ranks that
+    # need not meet at every step complete it only where the history
+    # records a row.)
+    interval = int(edits.get("Output/History interval", "1"))
+    steps = parallel_summary["steps"]
+    loose = not parallel_summary["ranks_meet_at_every_step"]
+    for group, rows_of_group in balanced.items():
+        unknowns = sum(split["unknowns"] for split in splits
+                       if whole or split["body"] == group)
+        check_close(f"{label}: {group}: passes recorded", len(rows_of_group),
+                    steps - (1 if loose and steps % interval else 0), 0)
+        check_true(f"{label}: {group}: each pass's rows add up to {unknowns} and its "
+                   f"times lie in [0, {parallel_summary['wall_time_parts_s']['total']}] s",
+                   all(float(r["rank_0_rows"]) + float(r["rank_1_rows"]) == unknowns and
+                       0. <= float(r[f"rank_{p}_pass_s"]) <=
+                       parallel_summary["wall_time_parts_s"]["total"]
+                       for r in rows_of_group for p in (0, 1)))
+    check_true(f"{label}: no pass times on one process",
+               not os.path.exists(os.path.join(workdir, f"{label}_1_rank", "pass_times.csv")))
     damping = float(edits.get("Contact/Damping ratio", "0"))
     loose = (scheme != "consistent" and not (method == "fea" and local != "0") and
              edits.get("Contact/Bipenalty", "false") == "false" and

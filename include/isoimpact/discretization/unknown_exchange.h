@@ -116,6 +116,17 @@ namespace isoimpact
     static void
     observe_pass_times(const std::vector<UnknownExchange *> &exchanges,
                        const std::vector<double>            &seconds);
+    // One observed pass of the measured balancing (one per step): each
+    // rank's pass time [s] and its owned rows over the bodies balanced
+    // together. Recorded in the first exchange of observe_pass_times()
+    // (benchmarks/balance_replay.py replays rules on them).
+    struct PassRecord
+    {
+      std::array<double, 2> seconds;
+      std::array<double, 2> rows;
+    };
+    const std::vector<PassRecord> &
+    pass_time_history() const;
     // Moves the rows to the split observe_pass_times() chose: their entries
     // of `state` (each vector whole-sized) go to their new owner, and the
     // ghost lists follow. Nothing to do if the split is unchanged. The
@@ -315,7 +326,8 @@ namespace isoimpact
     // The rows this rank may own (rows_to_store()).
     std::vector<dealii::types::global_dof_index> potential_rows;
     std::vector<double>                          cost_per_row;
-    unsigned int n_observations = 0, last_move_observation = 0;
+    unsigned int            n_observations = 0, last_move_observation = 0;
+    std::vector<PassRecord> pass_history;
     // Lists, ranges and counts for the present split.
     void
     set_up_split();

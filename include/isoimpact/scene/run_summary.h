@@ -150,6 +150,16 @@ namespace isoimpact
                const Scene       &scene,
                const RunFacts    &facts) const;
 
+    /**
+     * Writes the measured load balancing's passes (several ranks; see
+     * UnknownExchange::pass_time_history()) to `path` as CSV, one line per
+     * observed pass: who is balanced (a body, or the bodies whole on
+     * ranks), the pass's number, each rank's pass time [s] and owned rows.
+     * Nothing (and no file) without such passes; by rename like the summary.
+     */
+    static void
+    write_pass_times(const std::string &path, const Scene &scene);
+
   private:
     double              time_step;
     unsigned int        filter_width;
