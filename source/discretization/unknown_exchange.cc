@@ -482,9 +482,10 @@ namespace isoimpact
     // exponential average over about twenty steps (the first three, with
     // their page faults, left out). A move needs five such steps, and ten
     // since the last move (doc/parallel.md, session 37: replayed on
-    // recorded pass times, a first move after 20 steps and 20 between
-    // moves, from an average that the first step weighs half of, cost
-    // 0.3-2.9 % more time than this).
+    // recorded pass times, the first 200 steps with a slowed core took
+    // 0.2-1.6 % less than with a first move after 20 steps, 20 between
+    // moves and an average that the sixth step weighs half of; about the
+    // same once balanced).
     constexpr unsigned int skipped = 3, least_averaged = 5, least_between = 10;
     if (++first.n_observations <= skipped)
       return;
