@@ -22,7 +22,8 @@ rule that reads past steps can reach):
   cost (how far any rule on past steps' averages gets).
 The replay splits rows continuously (the program moves whole interface
 layers, about 0.1-0.2 % of the rows each), bounds rank 0's rows as the
-program does (15 % of each part's rows, doc/parallel.md session 17), counts
+program does (15 % of each part's rows of a split body, 30 % of each body
+of bodies whole on ranks: doc/parallel.md sessions 17 and 31), counts
 1 ms per move (session 36: 0.37-1.22 ms) and makes a move chosen after step
 n effective from step n + 2 (moves without a meeting). The first three
 steps (page faults) are left out of every sum.
@@ -55,7 +56,8 @@ CASES = {"FEA Q9 level 7": ("prm/hertz_fea_hrz.prm", 7),
 SKIPPED = 3          # first steps left out of the sums
 MOVE_COST = 1e-3     # s per move
 MOVE_LAG = 2         # a move chosen after step n is effective from step n + 2
-BAND = 0.15          # movable fraction of each part's rows
+# Movable fraction of each part's rows (doc/parallel.md, sessions 17 and 31).
+BAND = {"split": 0.15, "bodies whole on ranks": 0.30}
 GAIN = 0.02          # least predicted gain of a move
 
 
@@ -80,12 +82,18 @@ def best_split(c, total, low, high):
     return min(max(total * c[1] / (c[0] + c[1]), low), high)
 
 
-def replay_rule(passes, skipped, least_averaged, least_between, mean_start):
+def bounds(passes, band):
+    """Rank 0's least and most rows: `band` (the movable fraction of each
+    part's rows) around the first pass's rows, the partition's split."""
+    return (passes[0][2] * (1. - band), passes[0][2] + band * passes[0][3])
+
+
+def replay_rule(passes, limits, skipped, least_averaged, least_between, mean_start):
     """The program's rule on recorded times: (sum of slower passes [s],
     moves)."""
     total = passes[0][2] + passes[0][3]
     n0 = passes[0][2]
-    low, high = n0 - BAND * n0, n0 + BAND * passes[0][3]
+    low, high = limits
     estimate, averaged, last_move, observations = [0., 0.], 0, None, 0
     pending, moves, time = None, 0, 0.
     for step, (c0, c1, _, _) in enumerate(passes):
@@ -111,20 +119,21 @@ def replay_rule(passes, skipped, least_averaged, least_between, mean_start):
     return time, moves
 
 
-def replay(passes):
-    """{rule: sum of the slower passes [s]} and the rules' moves."""
+def replay(passes, limits):
+    """{rule: sum of the slower passes [s]} and the rules' moves, from the
+    first pass's split within `limits` (rank 0's least and most rows)."""
     total = passes[0][2] + passes[0][3]
     counted = passes[SKIPPED:]
     n0 = passes[0][2]
-    low, high = n0 - BAND * n0, n0 + BAND * passes[0][3]
+    low, high = limits
     sums = {"oracle": sum(total / (1. / c0 + 1. / c1) for c0, c1, _, _ in counted),
             "none": sum(slower_pass(p, n0, total) for p in counted)}
     candidates = [low + (high - low) * k / 400. for k in range(401)]
     sums["best static"] = min(sum(slower_pass(p, x, total) for p in counted)
                               for x in candidates)
     moves = {}
-    sums["rule 36"], moves["rule 36"] = replay_rule(passes, 5, 15, 20, False)
-    sums["rule 37"], moves["rule 37"] = replay_rule(passes, 3, 5, 10, True)
+    sums["rule 36"], moves["rule 36"] = replay_rule(passes, limits, 5, 15, 20, False)
+    sums["rule 37"], moves["rule 37"] = replay_rule(passes, limits, 3, 5, 10, True)
     follower = 0.
     for step in range(SKIPPED, len(passes)):
         past = passes[max(0, step - MOVE_LAG - 9):max(1, step - MOVE_LAG + 1)]
@@ -134,12 +143,12 @@ def replay(passes):
     return sums, moves
 
 
-def describe(label, passes):
+def describe(label, passes, band):
     ratios = [c0 / c1 for c0, c1, _, _ in passes[SKIPPED:]]
     mean = statistics.fmean(ratios)
     lag1 = (statistics.correlation(ratios[:-1], ratios[1:])
             if hasattr(statistics, "correlation") and len(ratios) > 2 else float("nan"))
-    sums, moves = replay(passes)
+    sums, moves = replay(passes, bounds(passes, band))
     oracle = sums["oracle"]
     above = " | ".join(f"{100. * (sums[k] / oracle - 1.):.1f}" for k in
                        ("none", "best static", "rule 36", "rule 37", "follower"))
@@ -216,9 +225,11 @@ def main():
         for label, path in files:
             for balanced, passes in read_passes(path).items():
                 name = f"{label} ({balanced})"
-                describe(name, passes)
+                band = BAND.get(balanced, BAND["split"])
+                describe(name, passes, band)
                 for start in range(0, len(passes) - args.window + 1, args.window):
-                    sums, _ = replay(passes[start:start + args.window])
+                    sums, _ = replay(passes[start:start + args.window],
+                                     bounds(passes, band))
                     windows.append((start, sums["rule 36"] / sums["oracle"] - 1.,
                                     sums["rule 37"] / sums["oracle"] - 1.))
         print()

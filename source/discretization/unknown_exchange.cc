@@ -483,7 +483,7 @@ namespace isoimpact
     // their page faults, left out). A move needs five such steps, and ten
     // since the last move (doc/parallel.md, session 37: replayed on
     // recorded pass times, the first 200 steps with a slowed core took
-    // 0.2-1.6 % less than with a first move after 20 steps, 20 between
+    // 0.2-2.6 % less than with a first move after 20 steps, 20 between
     // moves and an average that the sixth step weighs half of; about the
     // same once balanced).
     constexpr unsigned int skipped = 3, least_averaged = 5, least_between = 10;
