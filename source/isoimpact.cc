@@ -320,7 +320,7 @@ namespace isoimpact
     const std::regex owned(
       "(parameters\\.prm|history\\.csv|summary\\.json|solution\\.pvd|"
       "solution_[0-9]+\\.pvtu|body[0-9]+_[0-9]+(\\.[0-9]+)?\\.vtu|"
-      "contact_pressure_t[0-9.]+\\.csv)(\\.tmp)?");
+      "contact_pressure_t[0-9.]+\\.csv|pass_times\\.csv)(\\.tmp)?");
     unsigned int n_removed = 0;
     for (const auto &entry : std::filesystem::directory_iterator(directory))
       if (entry.is_regular_file() &&

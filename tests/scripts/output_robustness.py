@@ -73,7 +73,7 @@ def check_files_readable(folder, max_tmp=0):
 folder = os.path.join(workdir, "rerun")
 os.makedirs(folder)
 stale = ["body1_0099.vtu", "body2_0099.vtu", "solution_0099.pvtu", "contact_pressure_t9.9990.csv",
-         "summary.json.tmp", "body1_0100.vtu.tmp"]
+         "summary.json.tmp", "body1_0100.vtu.tmp", "pass_times.csv"]
 for name in stale + ["notes.txt"]:
     open(os.path.join(folder, name), "w").write("an earlier run\n")
 open(os.path.join(folder, "summary.json"), "w").write('{"steps": 99999}\n')
@@ -81,8 +81,8 @@ run = subprocess.run([program, prm("rerun", {"Time integration/End time": "0.05"
                                              "Output/VTU interval": "50"})],
                      cwd=workdir, capture_output=True, text=True)
 check_true("rerun: exit 0", run.returncode == 0)
-check_true("rerun: says it removed the 7 files of the earlier run",
-           "removed 7 files of an earlier run" in run.stdout)
+check_true("rerun: says it removed the 8 files of the earlier run",
+           "removed 8 files of an earlier run" in run.stdout)
 left = os.listdir(folder)
 check_true("rerun: no stale file left", not any(name in left for name in stale))
 check_true("rerun: a file the program does not own is kept", "notes.txt" in left)
