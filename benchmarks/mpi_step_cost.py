@@ -25,7 +25,7 @@ least), and the memory per process:
   doc/parallel.md.
 
 usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--steps 200]
-                                          [--build build] [--mass HRZ|consistent]
+                                          [--build build] [--mass HRZ|consistent] [--claimed]
   --quick: the 1e5 levels only; --fine: the 1e6 levels only.
 The table is preceded by the machine's memory bandwidth with 1 and 2 ranks
 (benchmarks/memory_bandwidth.cc; build target benchmark_memory_bandwidth):
@@ -52,17 +52,24 @@ from testing import edit_prm  # noqa: E402
 # File and levels (about 1e5 and 1e6 unknowns).
 CASES = {"FEA Q9": ("prm/hertz_fea_hrz.prm", [5, 7]),
          "IGA p2": ("prm/hertz_iga_hrz.prm", [6, 8])}
-CONFIGS = [("1 rank x 1 thread", 1, 1), ("1 rank x 2 threads", 1, 2),
-           ("2 ranks x 1 thread", 2, 1)]
+CONFIGS = [("1 rank x 1 thread", 1, 1, None), ("1 rank x 2 threads", 1, 2, None),
+           ("2 ranks x 1 thread", 2, 1, None)]
+# --claimed: 2 ranks with Parallel/Load balancing = claimed (the band shared
+# within each step) beside the default (measured).
+CLAIMED = ("2 ranks x 1 thread, claimed", 2, 1, "claimed")
 
 
-def benchmark_prm(prm, level, steps, work, mass="HRZ"):
-    """The scene at `level` for `steps` steps, written to work/run.prm:
+def benchmark_prm(prm, level, steps, work, mass="HRZ", balancing=None):
+    """The scene at `level` for `steps` steps, written to work/run.prm (with
+    `balancing`: run_<balancing>.prm and that Parallel/Load balancing):
     dt = 2.5e-4 s at level 4, halved per level (stable), inside the impact;
     output to work/out without ParaView records, history every 100 steps."""
     dt = 2.5e-4 / 2 ** (level - 4)
-    return edit_prm(os.path.join(root, prm), os.path.join(work, "run.prm"),
-                    {"Discretization/Global refinements": str(level),
+    edits = {"Parallel/Load balancing": balancing} if balancing else {}
+    name = f"run_{balancing}.prm" if balancing else "run.prm"
+    return edit_prm(os.path.join(root, prm), os.path.join(work, name),
+                    {**edits,
+                     "Discretization/Global refinements": str(level),
                      "Time integration/Time step": repr(dt),
                      "Time integration/End time": repr(steps * dt),
                      "Output/Directory": "out", "Output/VTU interval": "0",
@@ -146,7 +153,8 @@ def run(program, prm, work, ranks, threads, poll_memory=False):
 
 def describe_splits(splits, step, waits):
     """The load balancing of a run on 2 ranks: each body's final split
-    (layers; its bounds), its moves, the ranks' averaged pass times per
+    (layers; its bounds; claimed balancing: the band's chunks and how many
+    of them rank 0 computed in the last pass), its moves, the ranks' averaged pass times per
     row that chose it, and each rank's pass per step from them (the sum over
     the bodies of time per row x owned rows; averaged over about the last
     twenty steps) against the run's time per step `step` (s): what is left
@@ -158,10 +166,17 @@ def describe_splits(splits, step, waits):
         if not split.get("load_balancing"):
             continue
         low, high = split["split_bounds_layers"]
-        per_row = "/".join(f"{1e9 * c:.1f}" for c in split["pass_time_per_row_s"])
+        if split.get("claims_band"):
+            parts.append(f"{split['body']} band of {split['band_chunks']} chunks, "
+                         f"{split['band_chunks_of_rank_0']} of them rank 0's in the last pass")
+            continue
         parts.append(f"{split['body']} split {split['split_layers']} of [{low}, {high}], "
                      f"{split['moves']} moves, owned {split['owned_unknowns_per_rank']}")
-    if parts and splits[0].get("pass_time_per_row_s"):
+    claimed = any(split.get("claims_band") for split in splits)
+    if parts and claimed and splits[0].get("pass_time_per_row_s"):
+        parts.append("ns per row " + "/".join(
+            f"{1e9 * c:.1f}" for c in splits[0]["pass_time_per_row_s"]))
+    if parts and not claimed and splits[0].get("pass_time_per_row_s"):
         parts.append("ns per row " + "/".join(
             f"{1e9 * c:.1f}" for c in splits[0]["pass_time_per_row_s"]))
         passes = [sum(split["pass_time_per_row_s"][p] * split["owned_unknowns_per_rank"][p]
@@ -212,7 +227,10 @@ def main():
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--build", default=os.path.join(root, "build"))
     parser.add_argument("--mass", choices=["HRZ", "consistent"], default="HRZ")
+    parser.add_argument("--claimed", action="store_true",
+                        help="also 2 ranks with Load balancing = claimed")
     args = parser.parse_args()
+    configs = CONFIGS + ([CLAIMED] if args.claimed else [])
     program = os.path.join(args.build, "isoimpact")
     for tool in ["/usr/bin/time", "mpirun"]:
         if not shutil.which(tool):
@@ -228,26 +246,28 @@ def main():
         for method, (prm, levels) in CASES.items():
             chosen = levels[:1] if args.quick else levels[1:] if args.fine else levels
             for level in chosen:
-                edited = benchmark_prm(prm, level, args.steps, work, args.mass)
-                times = {name: [] for name, _, _ in CONFIGS}
+                edited = {balancing: benchmark_prm(prm, level, args.steps, work, args.mass,
+                                                   balancing)
+                          for _, _, _, balancing in configs}
+                times = {name: [] for name, _, _, _ in configs}
                 memory, anonymous = {}, {}
                 unknowns = 0
-                balancing = []
+                notes_of_level = []
                 for _ in range(args.repeats):
-                    for name, ranks, threads in CONFIGS:
-                        step, rss, _, unknowns, splits, waits = run(program, edited, work,
-                                                                       ranks, threads)
+                    for name, ranks, threads, balancing in configs:
+                        step, rss, _, unknowns, splits, waits = run(
+                            program, edited[balancing], work, ranks, threads)
                         times[name].append(step)
                         memory[name] = rss
                         if ranks == 2 and describe_splits(splits, step, waits):
-                            balancing.append(f"{1e3 * step:.2f} ms: "
+                            notes_of_level.append(f"{name}, {1e3 * step:.2f} ms: "
                                              f"{describe_splits(splits, step, waits)}")
                 # The anonymous memory in runs of its own (see above).
-                for name, ranks, threads in CONFIGS:
-                    anonymous[name] = run(program, edited, work, ranks, threads,
+                for name, ranks, threads, balancing in configs:
+                    anonymous[name] = run(program, edited[balancing], work, ranks, threads,
                                           poll_memory=True)[2]
                 base = statistics.median(times[CONFIGS[0][0]])
-                for name, _, _ in CONFIGS:
+                for name, _, _, _ in configs:
                     median = statistics.median(times[name])
                     paired = statistics.median(
                         b / t for b, t in zip(times[CONFIGS[0][0]], times[name]))
@@ -258,7 +278,7 @@ def main():
                           f"{anonymous[name] / 1e6:.0f} | "
                           f"{anonymous[name] / anonymous[CONFIGS[0][0]]:.2f} |", flush=True)
                 # (After the table: the load balancing of each 2-rank run.)
-                notes.extend(f"- {method} level {level}, 2 ranks, {line}" for line in balancing)
+                notes.extend(f"- {method} level {level}, {line}" for line in notes_of_level)
     if notes:
         print()
         print("\n".join(notes))

@@ -652,11 +652,18 @@ namespace isoimpact
         << " s) is the contact time so far, not the duration (contact_ended "
            "= false); raise 'Time integration/End time' to see the "
            "separation";
-    pcout << "\n  max energy error " << 100. * summary->max_energy_error()
-          << " %\n"
-          << "  results: " << parameters.output_directory
-          << "/{history.csv,summary.json,solution.pvd,contact_pressure_*.csv}"
-          << std::endl;
+    pcout
+      << "\n  max energy error " << 100. * summary->max_energy_error() << " %\n"
+      << "  results: " << parameters.output_directory
+      << "/{history.csv,summary.json,solution.pvd,contact_pressure_*.csv"
+      << (std::any_of(scene.bodies.begin(),
+                      scene.bodies.end(),
+                      [](const auto &body) {
+                        return !body->exchange().pass_time_history().empty();
+                      }) ?
+            ",pass_times.csv" :
+            "")
+      << "}" << std::endl;
     pcout << "  wall time: set-up " << setup_time << " s, time steps "
           << loop_time << " s, output " << output_time << " s (ParaView "
           << paraview_time << " s), total " << facts.total_wall_time

@@ -236,7 +236,10 @@ set_tests_properties(consistent_mass_solve_2_ranks PROPERTIES TIMEOUT 600)
 # every step; one whole-body case keeps the bodies whole (off). Ranks with a
 # lumped mass need not meet at every step (session 34): two cases write the
 # history at every 7th and 5th step, so that the energies are summed one
-# step late in between, and a third on 3 ranks.
+# step late in between, and a third on 3 ranks. Four cases share the band
+# within each step (Load balancing = claimed, session 38): whole bodies with
+# ParaView records, the history every 7th step, split bodies with contact
+# damping, and a rigid plane.
 add_test(NAME mpi_history_2_ranks
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/mpi_history.py
     $<TARGET_FILE:isoimpact_program> ${ISOIMPACT_MPIRUN} ${_work}/mpi_history
@@ -263,7 +266,11 @@ add_test(NAME mpi_history_2_ranks
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_consistent_coarse.prm@Output/VTU interval=600@ranks=3"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Output/History interval=7"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split@Output/History interval=5"
-    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@ranks=3@Output/History interval=3")
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@ranks=3@Output/History interval=3"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Load balancing=claimed@Output/VTU interval=301"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Load balancing=claimed@Output/History interval=7"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=claimed@Contact/Damping ratio=0.2"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_rigid_plane_coarse.prm@Parallel/Load balancing=claimed")
 set_tests_properties(mpi_history_2_ranks PROPERTIES TIMEOUT 600)
 
 # One thread against two (one process): on two threads the bodies' steps run

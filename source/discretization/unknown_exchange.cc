@@ -32,6 +32,82 @@ namespace isoimpact
     };
   } // namespace
 
+  namespace
+  {
+    // Whether MPI may still be called (messages under way at the end).
+    bool
+    mpi_is_running()
+    {
+      int initialized = 0, finalized = 0;
+      MPI_Initialized(&initialized);
+      MPI_Finalized(&finalized);
+      return initialized != 0 && finalized == 0;
+    }
+  } // namespace
+
+  // The claims' counter: one integer in rank 0's memory, which both ranks
+  // of a node map (MPI_Win_allocate_shared), in a passive epoch for the
+  // whole run; atomic increments (MPI_Fetch_and_op).
+  struct UnknownExchange::ClaimWindow
+  {
+    MPI_Comm node   = MPI_COMM_NULL;
+    MPI_Win  window = MPI_WIN_NULL;
+
+    explicit ClaimWindow(const MPI_Comm communicator, const unsigned int rank)
+    {
+      int ierr = MPI_Comm_split_type(communicator,
+                                     MPI_COMM_TYPE_SHARED,
+                                     rank,
+                                     MPI_INFO_NULL,
+                                     &node);
+      AssertThrowMPI(ierr);
+      int node_size = 0;
+      MPI_Comm_size(node, &node_size);
+      AssertThrow(node_size == 2,
+                  ExcMessage("Load balancing = claimed needs both MPI ranks "
+                             "on one node (a counter in shared memory); "
+                             "use measured"));
+      long long *counter = nullptr;
+      ierr = MPI_Win_allocate_shared(rank == 0 ? sizeof(long long) : 0,
+                                     sizeof(long long),
+                                     MPI_INFO_NULL,
+                                     node,
+                                     &counter,
+                                     &window);
+      AssertThrowMPI(ierr);
+      ierr = MPI_Win_lock_all(MPI_MODE_NOCHECK, window);
+      AssertThrowMPI(ierr);
+      if (rank == 0)
+        *counter = 0;
+      MPI_Win_sync(window);
+      MPI_Barrier(node);
+      MPI_Win_sync(window);
+    }
+
+    ~ClaimWindow()
+    {
+      if (!mpi_is_running())
+        return;
+      MPI_Win_unlock_all(window);
+      MPI_Win_free(&window);
+      MPI_Comm_free(&node);
+    }
+
+    // The counter's value before adding one.
+    long long
+    fetch_and_increment() const
+    {
+      const long long one = 1;
+      long long       previous;
+      int             ierr =
+        MPI_Fetch_and_op(&one, &previous, MPI_LONG_LONG, 0, 0, MPI_SUM, window);
+      AssertThrowMPI(ierr);
+      ierr = MPI_Win_flush(0, window);
+      AssertThrowMPI(ierr);
+      return previous;
+    }
+  };
+
   double
   UnknownExchange::seconds_waiting()
   {
@@ -148,6 +224,64 @@ namespace isoimpact
           layer_of_shared.push_back(layer[i]);
         cost_per_row.assign(2, 0.);
         set_up_split();
+        if (balancing == LoadBalancing::claimed)
+          {
+            // The band's rows less the shared unknowns: the contact forces
+            // land on these, and only their owner has them (it computes
+            // them with its fixed rows, and sends them to the other rank
+            // as ghosts).
+            std::vector<types::global_dof_index> sorted_shared = shared;
+            std::sort(sorted_shared.begin(), sorted_shared.end());
+            std::vector<types::global_dof_index> band_rows;
+            for (int s = min_split + 1; s <= max_split; ++s)
+              for (const auto i : layer_lists[s - min_split])
+                if (!std::binary_search(sorted_shared.begin(),
+                                        sorted_shared.end(),
+                                        i))
+                  band_rows.push_back(i);
+            std::sort(band_rows.begin(), band_rows.end());
+            // The claims take the band in chunks of consecutive rows (a
+            // layer's rows lie scattered over the index range, about 5 in
+            // a row at 1e6 unknowns, and a pass over them took twice the
+            // time per row): about 2000 rows each (some 50 us of a pass),
+            // in ascending order.
+            constexpr std::size_t chunk_rows = 2048;
+            const std::size_t     n_chunks =
+              std::max<std::size_t>(1,
+                                    (band_rows.size() + chunk_rows / 2) /
+                                      chunk_rows);
+            band_chunk_ranges.resize(n_chunks);
+            chunk_prefix.assign(1, 0);
+            for (std::size_t c = 0; c < n_chunks; ++c)
+              {
+                const std::size_t first = band_rows.size() * c / n_chunks,
+                                  end   = band_rows.size() * (c + 1) / n_chunks;
+                auto &pieces            = band_chunk_ranges[c];
+                for (std::size_t k = first; k < end; ++k)
+                  {
+                    const auto i = band_rows[k];
+                    if (!pieces.empty() && pieces.back().second == i)
+                      ++pieces.back().second;
+                    else
+                      pieces.emplace_back(i, i + 1);
+                    owned_here[i] = 0; // outside the fixed rows
+                  }
+                chunk_prefix.push_back(end);
+              }
+            set_up_ranges();
+            for (const auto i : band_rows)
+              owned_here[i] = owner_of[i] == rank;
+            // Rank 0's rows of the band at the partition's split.
+            std::size_t band_rows_of_0 = 0;
+            for (const auto i : band_rows)
+              band_rows_of_0 += owner_of[i] == 0;
+            meeting_chunk  = 0;
+            fixed_count[0] = owned_count[0] - band_rows_of_0;
+            fixed_count[1] =
+              owned_count[1] - (band_rows.size() - band_rows_of_0);
+            AssertThrow(fixed_count[rank] == range_offsets.back(),
+                        ExcInternalError());
+          }
         return;
       }
 
@@ -292,6 +426,7 @@ namespace isoimpact
   void
   UnknownExchange::set_up_ghosts()
   {
+    // (Claimed balancing: the band itself comes with the band's updates.)
     ghosts        = needs_at(rank, present_split);
     peers         = {1 - rank};
     send_lists    = {needs_at(1 - rank, present_split)};
@@ -303,9 +438,14 @@ namespace isoimpact
   UnknownExchange::needs_at(const unsigned int p, const int split) const
   {
     // Rank 0 reads layer split + 1 of rank 1, rank 1 layer split of rank 0,
-    // both the shared unknowns the other owns.
+    // both the shared unknowns the other owns (claimed balancing: the
+    // other's layer next to the band, and the shared unknowns it owns at
+    // the present split).
+    const int layer = balancing != LoadBalancing::claimed ?
+                        split :
+                        (p == 0 ? max_split : min_split);
     std::vector<types::global_dof_index> needs =
-      layer_lists[split + (p == 0 ? 1 : 0) - min_split];
+      layer_lists[layer + (p == 0 ? 1 : 0) - min_split];
     for (std::size_t k = 0; k < shared_unknowns.size(); ++k)
       if ((layer_of_shared[k] <= split) != (p == 0))
         needs.push_back(shared_unknowns[k]);
@@ -380,6 +520,126 @@ namespace isoimpact
   UnknownExchange::balances_load() const
   {
     return balancing != LoadBalancing::off;
+  }
+
+  bool
+  UnknownExchange::claims_band() const
+  {
+    return balancing == LoadBalancing::claimed;
+  }
+
+  void
+  UnknownExchange::open_claims()
+  {
+    if (claims_band() && !claim_window)
+      claim_window = std::make_shared<ClaimWindow>(comm, rank);
+  }
+
+  bool
+  UnknownExchange::claim_chunk(int &chunk)
+  {
+    AssertThrow(claim_window, ExcMessage("open_claims() first"));
+    // Each claim adds one to the counter; the band's n chunks go to the
+    // first n claims of the pass, rank 0 taking them from the first, rank 1
+    // from the last. Each rank claims until its first claim beyond them: a
+    // pass adds n + 2. (A rank starts the next pass's claims only after it
+    // received the other's band values of this one: sent after its last
+    // claim.)
+    const int       n        = band_chunk_ranges.size();
+    const long long previous = claim_window->fetch_and_increment();
+    if (previous - claims_base < n)
+      {
+        chunk = rank == 0 ? own_claims : n - 1 - own_claims;
+        ++own_claims;
+        return true;
+      }
+    meeting_chunk = rank == 0 ? own_claims : n - own_claims;
+    claims_base += n + 2;
+    own_claims = 0;
+    return false;
+  }
+
+  const std::vector<std::pair<types::global_dof_index, types::global_dof_index>>
+    &
+    UnknownExchange::chunk_ranges(const int chunk) const
+  {
+    AssertIndexRange(chunk, band_chunk_ranges.size());
+    return band_chunk_ranges[chunk];
+  }
+
+  int
+  UnknownExchange::n_band_chunks() const
+  {
+    return band_chunk_ranges.size();
+  }
+
+  int
+  UnknownExchange::n_chunks_of_rank_0() const
+  {
+    return meeting_chunk;
+  }
+
+  std::pair<int, int>
+  UnknownExchange::claimed_chunks(const unsigned int p) const
+  {
+    return p == 0 ? std::make_pair(0, meeting_chunk - 1) :
+                    std::make_pair(meeting_chunk, n_band_chunks() - 1);
+  }
+
+  std::size_t
+  UnknownExchange::n_claimed_rows(const unsigned int p) const
+  {
+    const std::size_t below = chunk_prefix[meeting_chunk];
+    return p == 0 ? below : chunk_prefix.back() - below;
+  }
+
+  void
+  UnknownExchange::post_to_other_rank(const std::vector<double> &values,
+                                      const std::size_t          n_received,
+                                      const int                  tag,
+                                      UpdateUnderWay            &update) const
+  {
+    post_update(
+      values,
+      [&](const unsigned int) {
+        return values.size();
+      },
+      [&](const unsigned int) {
+        return n_received;
+      },
+      tag,
+      update);
+  }
+
+  void
+  UnknownExchange::wait_for_receives(UpdateUnderWay &update)
+  {
+    WaitClock clock;
+    const int ierr = MPI_Waitall(update.receive_requests.size(),
+                                 update.receive_requests.data(),
+                                 MPI_STATUSES_IGNORE);
+    AssertThrowMPI(ierr);
+  }
+
+  void
+  UnknownExchange::start_band_update(const std::vector<double> &values,
+                                     const unsigned int         per_row,
+                                     const int                  tag,
+                                     UpdateUnderWay            &update) const
+  {
+    AssertDimension(values.size(), per_row * n_claimed_rows(rank));
+    const std::size_t n_received = per_row * n_claimed_rows(1 - rank);
+    post_to_other_rank(values, n_received, tag, update);
+  }
+
+  const std::vector<double> *
+  UnknownExchange::complete_band_update(UpdateUnderWay &update) const
+  {
+    if (!update.started)
+      return nullptr;
+    wait_for_receives(update);
+    update.started = false;
+    return &update.receives[0];
   }
 
   int
@@ -465,11 +725,14 @@ namespace isoimpact
         return;
       }
     // Each rank's rows over all bodies (the state kept in the first
-    // exchange), and the pass recorded (pass_time_history()).
+    // exchange), and the pass recorded (pass_time_history()); claimed:
+    // the rows each computed, and nothing more to choose.
     std::array<double, 2> rows = {{0., 0.}};
     for (const auto *exchange : exchanges)
       for (unsigned int p = 0; p < 2; ++p)
-        rows[p] += exchange->owned_count[p];
+        rows[p] += exchange->balancing == LoadBalancing::claimed ?
+                     exchange->fixed_count[p] + exchange->n_claimed_rows(p) :
+                     exchange->owned_count[p];
     first.pass_history.push_back({{{seconds[0], seconds[1]}}, rows});
     // None while a move is under way: the pass timed the rows of a split
     // about to change.
@@ -498,6 +761,8 @@ namespace isoimpact
       }
     for (auto *exchange : exchanges)
       exchange->cost_per_row = first.cost_per_row;
+    if (first.balancing == LoadBalancing::claimed)
+      return; // (the time per row reported only)
     const auto &cost = first.cost_per_row;
     if (!(cost[0] > 0. && cost[1] > 0.) || averaged < least_averaged ||
         (first.last_move_observation > 0 &&
@@ -659,16 +924,7 @@ namespace isoimpact
                     move_sent.size() + move_sent_velocity_rows.size());
     const std::size_t n_received =
       move_received.size() + move_received_velocity_rows.size();
-    post_update(
-      values,
-      [&](const unsigned int) {
-        return values.size();
-      },
-      [&](const unsigned int) {
-        return n_received;
-      },
-      tag,
-      update);
+    post_to_other_rank(values, n_received, tag, update);
     update.move    = true;
     move_in_flight = true;
   }
@@ -680,13 +936,7 @@ namespace isoimpact
   {
     if (!update.started || !update.move)
       return;
-    {
-      WaitClock clock;
-      const int ierr = MPI_Waitall(update.receive_requests.size(),
-                                   update.receive_requests.data(),
-                                   MPI_STATUSES_IGNORE);
-      AssertThrowMPI(ierr);
-    }
+    wait_for_receives(update);
     update.started = false;
     update.move    = false;
     move_in_flight = false;
@@ -842,19 +1092,6 @@ namespace isoimpact
     complete_sum(under_way, values);
   }
 
-  namespace
-  {
-    // Whether MPI may still be called (messages under way at the end).
-    bool
-    mpi_is_running()
-    {
-      int initialized = 0, finalized = 0;
-      MPI_Initialized(&initialized);
-      MPI_Finalized(&finalized);
-      return initialized != 0 && finalized == 0;
-    }
-  } // namespace
-
   UnknownExchange::UpdateUnderWay::~UpdateUnderWay()
   {
     if (!mpi_is_running())
@@ -962,13 +1199,7 @@ namespace isoimpact
     if (!update.started)
       return;
     AssertThrow(!update.move, ExcMessage("a move: see complete_move()"));
-    {
-      WaitClock clock;
-      const int ierr = MPI_Waitall(update.receive_requests.size(),
-                                   update.receive_requests.data(),
-                                   MPI_STATUSES_IGNORE);
-      AssertThrowMPI(ierr);
-    }
+    wait_for_receives(update);
     update.started = false;
     finish_update(vector, update.receives);
   }

@@ -38,9 +38,10 @@ namespace isoimpact
       }
     };
 
-    // The messages of the displacement's ghosts sent ahead by the pass
-    // (every rank starts them in the order of the bodies).
-    constexpr int ghost_update_tag = 4811;
+    // The messages of the displacement's ghosts sent ahead by the pass and
+    // of the band's values (claimed balancing): these tags plus twice the
+    // body's index.
+    constexpr int ghost_update_tag = 6000, band_update_tag = 6001;
 
     // Whether every constraint is u_i = 0 (rollers; no hanging nodes): then
     // a lumped-mass step needs no condensation (the fused pass).
@@ -215,6 +216,7 @@ namespace isoimpact
                                                               LoadBalancing::off,
                                        whole_body ? 0.30 : 0.15);
         const unsigned int rank = row_exchange.this_rank();
+        message_tag_offset      = 2 * ranks->index;
         // The rows: those the rank may own (with load balancing, the
         // band of the other rank's rows too), and with shared_rows the
         // shared unknowns' (on every rank).
@@ -670,8 +672,58 @@ namespace isoimpact
 
   template <int dim>
   void
+  ElasticBody<dim>::receive_band_values()
+  {
+    const auto *values = row_exchange.complete_band_update(band_under_way);
+    if (values == nullptr)
+      return;
+    const unsigned int other = 1 - row_exchange.this_rank();
+    const auto [low, high]   = row_exchange.claimed_chunks(other);
+    std::size_t k            = 0;
+    for (Vector<double> *block : {band_velocity, &acceleration, &velocity})
+      {
+        for (int c = low; c <= high; ++c)
+          for (const auto &[first, end] : row_exchange.chunk_ranges(c))
+            for (std::size_t i = first; i < end; ++i)
+              (*block)[i] = (*values)[k++];
+        if (band_values_per_row == 1)
+          break;
+      }
+    AssertDimension(k, values->size());
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::list_band_constraints()
+  {
+    // The constrained rows outside the band that this rank computes, and
+    // those of each chunk of the band.
+    std::vector<types::global_dof_index> constrained;
+    for (const auto &line : body_constraints.get_lines())
+      constrained.push_back(line.index);
+    std::sort(constrained.begin(), constrained.end());
+    const auto rows_in = [&](const auto &ranges) {
+      std::vector<types::global_dof_index> rows;
+      for (const auto &[first, end] : ranges)
+        for (auto c =
+               std::lower_bound(constrained.begin(), constrained.end(), first);
+             c != constrained.end() && *c < end;
+             ++c)
+          rows.push_back(*c);
+      return rows;
+    };
+    fixed_constrained_rows = rows_in(row_exchange.owned_ranges());
+    band_constrained_rows.clear();
+    for (int c = 0; c < row_exchange.n_band_chunks(); ++c)
+      band_constrained_rows.push_back(rows_in(row_exchange.chunk_ranges(c)));
+    band_constraints_listed = true;
+  }
+
+  template <int dim>
+  void
   ElasticBody<dim>::drop_ghosts_sent_ahead()
   {
+    receive_band_values();
     // (A move sent with them is cancelled: the rows stay with the owners
     // that computed them.)
     if (ghosts_under_way.move)
@@ -898,11 +950,12 @@ namespace isoimpact
             }
           if (moving)
             row_exchange.start_move(sent_values,
-                                    ghost_update_tag,
+                                    ghost_update_tag + message_tag_offset,
                                     ghosts_under_way);
           else
             row_exchange.start_ghost_update(sent_values,
-                                            ghost_update_tag,
+                                            ghost_update_tag +
+                                              message_tag_offset,
                                             ghosts_under_way);
         }
     StepEnergies energies = sum_over_blocks(
@@ -930,17 +983,65 @@ namespace isoimpact
               }
           }
       });
+    // Claimed balancing: the band's chunks as this rank claims them, then
+    // their values sent to the other rank (which may claim any of them in
+    // the next pass).
+    const bool claims = owned_rows_only && row_exchange.claims_band();
+    if (claims)
+      {
+        if (!band_constraints_listed)
+          list_band_constraints();
+        StepEnergies band_sums;
+        int          chunk;
+        while (row_exchange.claim_chunk(chunk))
+          for (const auto &[first, end] : row_exchange.chunk_ranges(chunk))
+            step_rows(first, end, band_sums);
+        energies += band_sums;
+        band_values_per_row = form_whole_step_state ? 3 : 1;
+        band_values.clear();
+        const auto [low, high] =
+          row_exchange.claimed_chunks(row_exchange.this_rank());
+        for (const double *block : {vh, a, v})
+          {
+            for (int c = low; c <= high; ++c)
+              for (const auto &[first, end] : row_exchange.chunk_ranges(c))
+                band_values.insert(band_values.end(),
+                                   block + first,
+                                   block + end);
+            if (band_values_per_row == 1)
+              break;
+          }
+        row_exchange.start_band_update(band_values,
+                                       band_values_per_row,
+                                       band_update_tag + message_tag_offset,
+                                       band_under_way);
+        band_velocity = &half_step_velocity;
+      }
     // Constrained unknowns do not count (as in the separate functions);
     // their acceleration is zero, so their velocity did not change.
-    for (const auto &line : body_constraints.get_lines())
+    const auto subtract_constrained = [&](const std::size_t i) {
+      const double ku = row_product(i);
+      energies.kinetic -= vh[i] * mass[i] * vh[i];
+      energies.strain -= u[i] * ku;
+    };
+    if (claims)
       {
-        const std::size_t i = line.index;
-        if (owned_rows_only && !row_exchange.is_owned(i))
-          continue;
-        const double ku = row_product(i);
-        energies.kinetic -= vh[i] * mass[i] * vh[i];
-        energies.strain -= u[i] * ku;
+        for (const auto i : fixed_constrained_rows)
+          subtract_constrained(i);
+        const auto [low, high] =
+          row_exchange.claimed_chunks(row_exchange.this_rank());
+        for (int c = low; c <= high; ++c)
+          for (const auto i : band_constrained_rows[c])
+            subtract_constrained(i);
       }
+    else
+      for (const auto &line : body_constraints.get_lines())
+        {
+          const std::size_t i = line.index;
+          if (owned_rows_only && !row_exchange.is_owned(i))
+            continue;
+          subtract_constrained(i);
+        }
     // The contact forces on the ghosts are their owners' to consume.
     if constexpr (owned_rows_only)
       {
@@ -1033,6 +1134,21 @@ namespace isoimpact
                                      ghosts_under_way);
         else
           row_exchange.complete_ghost_update(displacement, ghosts_under_way);
+        // The band's rows the other rank computed: u + dt v^{n+1/2} as its
+        // pass formed them (the same operations, the same bits).
+        if (row_exchange.claims_band())
+          {
+            receive_band_values();
+            const unsigned int other = 1 - row_exchange.this_rank();
+            const auto [low, high]   = row_exchange.claimed_chunks(other);
+            const double *u          = displacement_ahead.data();
+            const double *v          = half_step_velocity.data();
+            double       *u_next     = displacement.data();
+            for (int c = low; c <= high; ++c)
+              for (const auto &[first, end] : row_exchange.chunk_ranges(c))
+                for (std::size_t i = first; i < end; ++i)
+                  u_next[i] = u[i] + dt * v[i];
+          }
         ghosts_received = true;
         return;
       }
@@ -1043,6 +1159,15 @@ namespace isoimpact
                     dt,
                     first,
                     end);
+    // Claimed balancing: both ranks advance the whole band.
+    if (row_exchange.claims_band())
+      for (int c = 0; c < row_exchange.n_band_chunks(); ++c)
+        for (const auto &[first, end] : row_exchange.chunk_ranges(c))
+          advance_range(displacement.data(),
+                        half_step_velocity.data(),
+                        dt,
+                        first,
+                        end);
     // A move due: here, the ranks meet (the ghosts then follow the new
     // split in the caller's update).
     row_exchange.apply_split({&displacement, &half_step_velocity});
@@ -1174,10 +1299,18 @@ namespace isoimpact
 
   template <int dim>
   void
+  ElasticBody<dim>::open_claims()
+  {
+    row_exchange.open_claims();
+  }
+
+  template <int dim>
+  void
   ElasticBody<dim>::gather_state()
   {
     if (replicated_state)
       return;
+    receive_band_values(); // the band's whole-step state
     row_exchange.gather(displacement);
     row_exchange.gather(velocity);
     row_exchange.gather(acceleration);

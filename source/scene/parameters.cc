@@ -278,14 +278,16 @@ namespace isoimpact
     prm.declare_entry(
       "Load balancing",
       "measured",
-      Patterns::Selection("measured|off|sweep"),
+      Patterns::Selection("measured|off|sweep|claimed"),
       "On 2 MPI ranks with lumped mass: the rows near the ranks' interface "
       "(bodies split), or a body's rows farthest from its contact surface "
       "(bodies whole on ranks, up to 30 % of the body), "
       "move between them at run time towards equal times per step "
       "(measured), stay where the partition put them (off), or move one "
-      "layer per step back and forth (sweep: a check of the machinery). "
-      "The motion has the same bits in every case.");
+      "layer per step back and forth (sweep: a check of the machinery); "
+      "claimed: both ranks hold those rows, and each step's pass shares "
+      "them as the ranks reach them (both ranks on one node). "
+      "The results have the same bits in every case.");
     prm.declare_entry(
       "Distribution",
       "automatic",
@@ -586,10 +588,10 @@ namespace isoimpact
     prm.enter_subsection("Parallel");
     {
       const std::string balancing = prm.get("Load balancing");
-      load_balancing              = balancing == "off" ?
-                                      LoadBalancing::off :
-                                      (balancing == "sweep" ? LoadBalancing::sweep :
-                                                              LoadBalancing::measured);
+      load_balancing              = balancing == "off"   ? LoadBalancing::off :
+                                    balancing == "sweep" ? LoadBalancing::sweep :
+                                    balancing == "claimed" ? LoadBalancing::claimed :
+                                                             LoadBalancing::measured;
       split_every_body            = prm.get("Distribution") == "split";
     }
     prm.leave_subsection();

@@ -487,6 +487,7 @@ namespace isoimpact
                                              parameters.mass_redistribution,
                                            parameters.mass_redistribution});
             ranks->load_balancing = parameters.load_balancing;
+            ranks->index          = b;
             if (bodies_on_ranks)
               ranks->whole_on_rank = b;
             for (const auto &segment : surfaces[b])
@@ -509,6 +510,11 @@ namespace isoimpact
                                            ranks ? &*ranks : nullptr);
         malloc_trim(0); // the body's temporaries, as above
       }
+
+    // Claimed load balancing: the claims' counters (collective, in the
+    // bodies' order on every rank).
+    for (const auto &body : scene.bodies)
+      body->open_claims();
 
     // The surface masses: the lumped masses in use, or HRZ's for a
     // consistent mass. The contact damping and Penalty = auto need them.

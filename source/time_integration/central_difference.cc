@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 using namespace dealii;
 
@@ -218,8 +219,23 @@ namespace isoimpact
             tasks.join_all();
           }
         else
-          for (unsigned int b = 0; b < bodies.size(); ++b)
-            step_body(b);
+          {
+            // Claimed balancing: each rank first steps the bodies of which
+            // it has rows outside the band, then claims what is left of the
+            // others' bands (so each rank may reach into all of them).
+            std::vector<unsigned int> order(bodies.size());
+            std::iota(order.begin(), order.end(), 0u);
+            std::stable_partition(order.begin(),
+                                  order.end(),
+                                  [&](const unsigned int b) {
+                                    const auto &exchange =
+                                      bodies[b]->exchange();
+                                    return !exchange.claims_band() ||
+                                           exchange.n_owned_unknowns() > 0;
+                                  });
+            for (const unsigned int b : order)
+              step_body(b);
+          }
         for (unsigned int b = 0; b < bodies.size(); ++b)
           force_is_zero[b] = bodies[b]->step_zeroes_force();
       }

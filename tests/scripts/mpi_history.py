@@ -137,7 +137,8 @@ for case in sys.argv[4:]:
         owned = split["owned_unknowns_per_rank"]
         if not whole:
             expected = min(owned) > 0 and sum(owned) == split["unknowns"]
-        elif balancing == "off":
+        elif balancing in ("off", "claimed"):
+            # (Claimed: the owners of output and sums stay the partition's.)
             expected = owned == [split["unknowns"] if r == b else 0
                                  for r in range(ranks)]
         else:
@@ -149,6 +150,9 @@ for case in sys.argv[4:]:
         if balancing in ("off", "sweep"):
             check_true(f"{label}: {split['body']}: load balancing {balancing}",
                        split["load_balancing"] == (balancing == "sweep"))
+        if balancing == "claimed":
+            check_true(f"{label}: {split['body']}: the band claimed within the step, "
+                       f"no moves", split["claims_band"] and split["moves"] == 0)
         if balancing == "sweep":
             # Split: layers on both sides of the interface; whole: the band
             # of the body, on its owner's side only.
@@ -177,7 +181,7 @@ for case in sys.argv[4:]:
                    for w in waits))
     check_true(f"{label}: the serial run reports no waits",
                serial_summary["mpi_wait_s_per_rank"] == [])
-    # The measured balancing's passes (pass_times.csv): one per step for
+    # The measured (or claimed) balancing's passes (pass_times.csv): one per step for
     # each balanced body (or for the bodies whole on ranks together), each
     # rank's rows adding up to the balanced unknowns, each pass time within
     # the run; none without it, none on one process.
@@ -188,9 +192,12 @@ for case in sys.argv[4:]:
             for row in csv.DictReader(file):
                 balanced.setdefault(row["balanced"], []).append(row)
     measured = [split for split in splits
-                if balancing == "measured" and split["load_balancing"]]
+                if balancing in ("measured", "claimed") and split["load_balancing"]]
     expected_groups = ({"bodies whole on ranks"} if whole and measured else
                        {split["body"] for split in measured})
+    check_true(f"{label}: the results line lists pass_times.csv if it was written "
+               f"({os.path.exists(passes_file)})",
+               ("pass_times.csv" in stdout) == os.path.exists(passes_file))
     check_true(f"{label}: pass times recorded for {sorted(balanced)}, "
                f"{sorted(expected_groups)} expected", set(balanced) == expected_groups)
     # (The last step's pass times come with its energies' sum: ranks that
@@ -210,6 +217,12 @@ for case in sys.argv[4:]:
                        0. <= float(r[f"rank_{p}_pass_s"]) <=
                        parallel_summary["wall_time_parts_s"]["total"]
                        for r in rows_of_group for p in (0, 1)))
+        # Claimed: the rows each rank computed follow each pass's meeting
+        # in the band (not the partition's split at every step).
+        if balancing == "claimed":
+            counts = {row["rank_0_rows"] for row in rows_of_group}
+            check_true(f"{label}: {group}: rank 0's rows in {len(counts)} different "
+                       f"counts over the passes (at least 2)", len(counts) >= 2)
     check_true(f"{label}: no pass times on one process",
                not os.path.exists(os.path.join(workdir, f"{label}_1_rank", "pass_times.csv")))
     damping = float(edits.get("Contact/Damping ratio", "0"))

@@ -13,6 +13,7 @@
 #include <isoimpact/discretization/unknown_partition.h>
 
 #include <array>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -32,12 +33,17 @@ namespace isoimpact
    * ranks' cores and memory run at unequal speeds for a whole run);
    * sweep: one layer of rows per step, back and forth over the whole band
    * (a check of the machinery; the motion has the same bits either way).
+   * claimed: within each step: both ranks hold the whole band, compute
+   * their rows outside it, then claim its layers one at a time from either
+   * end (an atomic counter in memory both ranks share) until they meet,
+   * and send each other what they computed (doc/parallel.md, session 38).
    */
   enum class LoadBalancing
   {
     off,
     measured,
-    sweep
+    sweep,
+    claimed
   };
 
   class UnknownExchange
@@ -99,6 +105,42 @@ namespace isoimpact
     // Load balancing (collective calls, every rank alike).
     bool
     balances_load() const;
+
+    // Claimed balancing (LoadBalancing::claimed): owned_ranges() and
+    // n_owned_unknowns() are then the rows outside the band (each rank's
+    // fixed rows; with them the band's shared unknowns, which only their
+    // owner computes), is_owned() and the owned lists the partition's split
+    // (the owners of output, sums and contact forces). The band's other
+    // rows in chunks of consecutive rows, rank 0 claiming them from the
+    // first, rank 1 from the last.
+    bool
+    claims_band() const;
+    // Opens the claims' counter (collective: every rank opens those of
+    // the bodies in the same order; nothing without claimed balancing).
+    void
+    open_claims();
+    // The next chunk of the band for this rank in this step's pass, or
+    // false once the ranks have met (the step's claims end; both ranks
+    // claim until then, in every pass of the body).
+    bool
+    claim_chunk(int &chunk);
+    // A chunk's rows as ranges [first, end) (ascending), and the chunks.
+    const std::vector<std::pair<dealii::types::global_dof_index,
+                                dealii::types::global_dof_index>> &
+    chunk_ranges(const int chunk) const;
+    int
+    n_band_chunks() const;
+    // The last pass's meeting: rank 0 computed that many chunks from the
+    // first, rank 1 the others.
+    int
+    n_chunks_of_rank_0() const;
+    // The chunks rank p computed in the last pass (first, last; none if
+    // first > last), and their number of rows: those one rank sends, the
+    // other receives, chunk by chunk in ascending order.
+    std::pair<int, int>
+    claimed_chunks(const unsigned int p) const;
+    std::size_t
+    n_claimed_rows(const unsigned int p) const;
     // The next split from every rank's time of this step's pass over its
     // rows (seconds, in rank order; the same values on every rank).
     void
@@ -210,6 +252,20 @@ namespace isoimpact
     void
     complete_ghost_update(dealii::Vector<double> &vector,
                           UpdateUnderWay         &update) const;
+
+    // Claimed balancing: the band's values.
+    // Sends `values` (`per_row` blocks of the values of this rank's
+    // claimed_chunks(), each block in their order) and posts the receive of
+    // the other rank's, without waiting.
+    void
+    start_band_update(const std::vector<double> &values,
+                      const unsigned int         per_row,
+                      const int                  tag,
+                      UpdateUnderWay            &update) const;
+    // Waits for it: the other rank's values (as it sent them), or nullptr
+    // if none is under way.
+    const std::vector<double> *
+    complete_band_update(UpdateUnderWay &update) const;
 
     // A move without a meeting (doc/parallel.md, session 36): the pass
     // that forms the next displacement ahead sends, with the rows the
@@ -325,7 +381,20 @@ namespace isoimpact
     std::vector<unsigned char> owner_of; // per unknown: 0 or 1
     // The rows this rank may own (rows_to_store()).
     std::vector<dealii::types::global_dof_index> potential_rows;
-    std::vector<double>                          cost_per_row;
+    // Claimed balancing: the counter both ranks share (a window of
+    // MPI-3 shared memory, freed with the last copy), its value where this
+    // pass's claims began, this rank's claims so far, the last meeting,
+    // each chunk's ranges and the band's rows before each chunk.
+    struct ClaimWindow;
+    std::shared_ptr<ClaimWindow> claim_window;
+    long long                    claims_base = 0;
+    int                          own_claims = 0, meeting_chunk = 0;
+    std::vector<std::size_t>     chunk_prefix; // rows of the chunks before
+    std::array<dealii::types::global_dof_index, 2> fixed_count = {{0, 0}};
+    std::vector<std::vector<std::pair<dealii::types::global_dof_index,
+                                      dealii::types::global_dof_index>>>
+                            band_chunk_ranges;
+    std::vector<double>     cost_per_row;
     unsigned int            n_observations = 0, last_move_observation = 0;
     std::vector<PassRecord> pass_history;
     // Lists, ranges and counts for the present split.
@@ -359,6 +428,16 @@ namespace isoimpact
                 const ReceiveSize         &receive_size,
                 const int                  tag,
                 UpdateUnderWay            &update) const;
+    // post_update() of `values` all to the other of 2 ranks, and
+    // n_received values from it.
+    void
+    post_to_other_rank(const std::vector<double> &values,
+                       const std::size_t          n_received,
+                       const int                  tag,
+                       UpdateUnderWay            &update) const;
+    // Waits for the receives of an update (counted in seconds_waiting()).
+    static void
+    wait_for_receives(UpdateUnderWay &update);
     // ranges and range_offsets from owned_here.
     void
     set_up_ranges();

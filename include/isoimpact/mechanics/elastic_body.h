@@ -47,6 +47,9 @@ namespace isoimpact
     // may take the layers farthest from them), or invalid: the body split
     // over all ranks.
     unsigned int whole_on_rank = dealii::numbers::invalid_unsigned_int;
+    // The body's index in the scene: its messages' tags (the ranks may
+    // step the bodies in different orders).
+    unsigned int index = 0;
   };
 
   template <int dim>
@@ -340,6 +343,11 @@ namespace isoimpact
     // the output; nothing on one process).
     void
     gather_state();
+    // Several ranks with claimed load balancing: opens the claims' counter
+    // (collective: every rank calls it for the bodies in the same order,
+    // before the first step).
+    void
+    open_claims();
 
     // The state: displacement, velocity and acceleration at the current
     // time, in the unknowns of the discretisation.
@@ -437,6 +445,26 @@ namespace isoimpact
     std::vector<double>             sent_values;
     UnknownExchange::UpdateUnderWay ghosts_under_way;
     bool                            ghosts_received = false;
+    // Claimed balancing: the band's values this rank computed in the last
+    // pass, sent after it (v^{n+1/2}, then with the whole step's state a
+    // and v), their number per row, and the vector v^{n+1/2} they belong
+    // to; the constrained rows among the rows outside the band, and in
+    // each chunk of the band.
+    std::vector<double>                          band_values;
+    int                                          message_tag_offset = 0;
+    UnknownExchange::UpdateUnderWay              band_under_way;
+    unsigned int                                 band_values_per_row = 1;
+    dealii::Vector<double>                      *band_velocity       = nullptr;
+    std::vector<dealii::types::global_dof_index> fixed_constrained_rows;
+    std::vector<std::vector<dealii::types::global_dof_index>>
+         band_constrained_rows;
+    bool band_constraints_listed = false;
+    void
+    list_band_constraints();
+    // Waits for the band's values of the other rank's last pass (nothing if
+    // received): its v^{n+1/2} (and a, v) into this rank's vectors.
+    void
+    receive_band_values();
     // Waits for the ghosts sent ahead and drops them (and cancels a move
     // sent with them).
     void
