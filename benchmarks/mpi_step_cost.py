@@ -26,6 +26,7 @@ least), and the memory per process:
 
 usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--steps 200]
                                           [--build build] [--mass HRZ|consistent] [--claimed]
+                                          [--method "FEA Q9"|"IGA p2" ...]
   --quick: the 1e5 levels only; --fine: the 1e6 levels only.
 The table is preceded by the machine's memory bandwidth with 1 and 2 ranks
 (benchmarks/memory_bandwidth.cc; build target benchmark_memory_bandwidth):
@@ -229,6 +230,8 @@ def main():
     parser.add_argument("--mass", choices=["HRZ", "consistent"], default="HRZ")
     parser.add_argument("--claimed", action="store_true",
                         help="also 2 ranks with Load balancing = claimed")
+    parser.add_argument("--method", choices=list(CASES), action="append",
+                        help="only this method (repeatable; default: all)")
     args = parser.parse_args()
     configs = CONFIGS + ([CLAIMED] if args.claimed else [])
     program = os.path.join(args.build, "isoimpact")
@@ -244,6 +247,8 @@ def main():
     notes = []
     with tempfile.TemporaryDirectory() as work:
         for method, (prm, levels) in CASES.items():
+            if args.method and method not in args.method:
+                continue
             chosen = levels[:1] if args.quick else levels[1:] if args.fine else levels
             for level in chosen:
                 edited = {balancing: benchmark_prm(prm, level, args.steps, work, args.mass,
