@@ -241,10 +241,9 @@ namespace isoimpact
                   band_rows.push_back(i);
             std::sort(band_rows.begin(), band_rows.end());
             // The claims take the band in chunks of consecutive rows (a
-            // layer's rows lie scattered over the index range, about 5 in
-            // a row at 1e6 unknowns, and a pass over them took twice the
-            // time per row): about 2000 rows each (some 50 us of a pass),
-            // in ascending order.
+            // layer's rows lie scattered over the index range, a few in a
+            // row, and a pass over them was slower): about 2000 rows each
+            // (some 50 us of a pass), in ascending order.
             constexpr std::size_t chunk_rows = 2048;
             const std::size_t     n_chunks =
               std::max<std::size_t>(1,

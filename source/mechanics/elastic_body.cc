@@ -217,6 +217,8 @@ namespace isoimpact
                                        whole_body ? 0.30 : 0.15);
         const unsigned int rank = row_exchange.this_rank();
         message_tag_offset      = 2 * ranks->index;
+        if (row_exchange.claims_band())
+          list_band_constraints();
         // The rows: those the rank may own (with load balancing, the
         // band of the other rank's rows too), and with shared_rows the
         // shared unknowns' (on every rank).
@@ -716,7 +718,6 @@ namespace isoimpact
     band_constrained_rows.clear();
     for (int c = 0; c < row_exchange.n_band_chunks(); ++c)
       band_constrained_rows.push_back(rows_in(row_exchange.chunk_ranges(c)));
-    band_constraints_listed = true;
   }
 
   template <int dim>
@@ -989,8 +990,6 @@ namespace isoimpact
     const bool claims = owned_rows_only && row_exchange.claims_band();
     if (claims)
       {
-        if (!band_constraints_listed)
-          list_band_constraints();
         StepEnergies band_sums;
         int          chunk;
         while (row_exchange.claim_chunk(chunk))

@@ -278,7 +278,7 @@ namespace isoimpact
     prm.declare_entry(
       "Load balancing",
       "measured",
-      Patterns::Selection("measured|off|sweep|claimed"),
+      Patterns::Selection(load_balancing_names.selection()),
       "On 2 MPI ranks with lumped mass: the rows near the ranks' interface "
       "(bodies split), or a body's rows farthest from its contact surface "
       "(bodies whole on ranks, up to 30 % of the body), "
@@ -587,12 +587,9 @@ namespace isoimpact
 
     prm.enter_subsection("Parallel");
     {
-      const std::string balancing = prm.get("Load balancing");
-      load_balancing              = balancing == "off"   ? LoadBalancing::off :
-                                    balancing == "sweep" ? LoadBalancing::sweep :
-                                    balancing == "claimed" ? LoadBalancing::claimed :
-                                                             LoadBalancing::measured;
-      split_every_body            = prm.get("Distribution") == "split";
+      load_balancing =
+        load_balancing_names.from_string(prm.get("Load balancing"));
+      split_every_body = prm.get("Distribution") == "split";
     }
     prm.leave_subsection();
 

@@ -11,6 +11,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <isoimpact/discretization/unknown_partition.h>
+#include <isoimpact/nurbs/enum_names.h>
 
 #include <array>
 #include <memory>
@@ -34,9 +35,10 @@ namespace isoimpact
    * sweep: one layer of rows per step, back and forth over the whole band
    * (a check of the machinery; the motion has the same bits either way).
    * claimed: within each step: both ranks hold the whole band, compute
-   * their rows outside it, then claim its layers one at a time from either
-   * end (an atomic counter in memory both ranks share) until they meet,
-   * and send each other what they computed (doc/parallel.md, session 38).
+   * their rows outside it, then claim its chunks of consecutive rows one at
+   * a time from either end (an atomic counter in memory both ranks share)
+   * until they meet, and send each other what they computed
+   * (doc/parallel.md, session 38).
    */
   enum class LoadBalancing
   {
@@ -45,6 +47,14 @@ namespace isoimpact
     sweep,
     claimed
   };
+
+  // Their names in Parallel/Load balancing.
+  inline constexpr EnumNames<LoadBalancing, 4> load_balancing_names{
+    "load balancing",
+    {{{LoadBalancing::measured, "measured"},
+      {LoadBalancing::off, "off"},
+      {LoadBalancing::sweep, "sweep"},
+      {LoadBalancing::claimed, "claimed"}}}};
 
   class UnknownExchange
   {

@@ -457,8 +457,7 @@ namespace isoimpact
     dealii::Vector<double>                      *band_velocity       = nullptr;
     std::vector<dealii::types::global_dof_index> fixed_constrained_rows;
     std::vector<std::vector<dealii::types::global_dof_index>>
-         band_constrained_rows;
-    bool band_constraints_listed = false;
+      band_constrained_rows;
     void
     list_band_constraints();
     // Waits for the band's values of the other rank's last pass (nothing if
