@@ -26,8 +26,15 @@ least), and the memory per process:
 
 usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--steps 200]
                                           [--build build] [--mass HRZ|consistent] [--claimed]
-                                          [--method "FEA Q9"|"IGA p2" ...]
+                                          [--by-body] [--method "FEA Q9"|"IGA p2" ...]
   --quick: the 1e5 levels only; --fine: the 1e6 levels only.
+  --claimed: also 2 ranks with Parallel/Load balancing = claimed.
+  --by-body: also 2 threads with Parallel/Thread partition = by body (each
+    body's pass on one thread, the static split of 2 ranks with bodies whole
+    on ranks, without messages: what sharing each step's rows as the threads
+    come gains on this machine).
+After the table, each configuration's step over that of 2 threads, run by
+run (the same round).
 The table is preceded by the machine's memory bandwidth with 1 and 2 ranks
 (benchmarks/memory_bandwidth.cc; build target benchmark_memory_bandwidth):
 their ratio is the speed-up of a step bound by memory traffic alone.
@@ -58,16 +65,23 @@ CONFIGS = [("1 rank x 1 thread", 1, 1, None), ("1 rank x 2 threads", 1, 2, None)
 # --claimed: 2 ranks with Parallel/Load balancing = claimed (the band shared
 # within each step) beside the default (measured).
 CLAIMED = ("2 ranks x 1 thread, claimed", 2, 1, "claimed")
+# --by-body: 2 threads with Parallel/Thread partition = by body (each body's
+# pass on one thread: the static split of 2 ranks with bodies whole on ranks,
+# without messages).
+BY_BODY = ("1 rank x 2 threads, by body", 1, 2, "by body")
+# The parameter each variant sets.
+VARIANT_EDITS = {"claimed": {"Parallel/Load balancing": "claimed"},
+                 "by body": {"Parallel/Thread partition": "by body"}}
 
 
-def benchmark_prm(prm, level, steps, work, mass="HRZ", balancing=None):
+def benchmark_prm(prm, level, steps, work, mass="HRZ", variant=None):
     """The scene at `level` for `steps` steps, written to work/run.prm (with
-    `balancing`: run_<balancing>.prm and that Parallel/Load balancing):
+    a `variant` of VARIANT_EDITS: run_<variant>.prm with its parameter):
     dt = 2.5e-4 s at level 4, halved per level (stable), inside the impact;
     output to work/out without ParaView records, history every 100 steps."""
     dt = 2.5e-4 / 2 ** (level - 4)
-    edits = {"Parallel/Load balancing": balancing} if balancing else {}
-    name = f"run_{balancing}.prm" if balancing else "run.prm"
+    edits = VARIANT_EDITS[variant] if variant else {}
+    name = f"run_{variant.replace(' ', '_')}.prm" if variant else "run.prm"
     return edit_prm(os.path.join(root, prm), os.path.join(work, name),
                     {**edits,
                      "Discretization/Global refinements": str(level),
@@ -230,10 +244,13 @@ def main():
     parser.add_argument("--mass", choices=["HRZ", "consistent"], default="HRZ")
     parser.add_argument("--claimed", action="store_true",
                         help="also 2 ranks with Load balancing = claimed")
+    parser.add_argument("--by-body", action="store_true",
+                        help="also 2 threads with Thread partition = by body")
     parser.add_argument("--method", choices=list(CASES), action="append",
                         help="only this method (repeatable; default: all)")
     args = parser.parse_args()
-    configs = CONFIGS + ([CLAIMED] if args.claimed else [])
+    configs = (CONFIGS + ([CLAIMED] if args.claimed else []) +
+               ([BY_BODY] if args.by_body else []))
     program = os.path.join(args.build, "isoimpact")
     for tool in ["/usr/bin/time", "mpirun"]:
         if not shutil.which(tool):
@@ -251,25 +268,25 @@ def main():
                 continue
             chosen = levels[:1] if args.quick else levels[1:] if args.fine else levels
             for level in chosen:
-                edited = {balancing: benchmark_prm(prm, level, args.steps, work, args.mass,
-                                                   balancing)
-                          for _, _, _, balancing in configs}
+                edited = {variant: benchmark_prm(prm, level, args.steps, work, args.mass,
+                                                 variant)
+                          for _, _, _, variant in configs}
                 times = {name: [] for name, _, _, _ in configs}
                 memory, anonymous = {}, {}
                 unknowns = 0
                 notes_of_level = []
                 for _ in range(args.repeats):
-                    for name, ranks, threads, balancing in configs:
+                    for name, ranks, threads, variant in configs:
                         step, rss, _, unknowns, splits, waits = run(
-                            program, edited[balancing], work, ranks, threads)
+                            program, edited[variant], work, ranks, threads)
                         times[name].append(step)
                         memory[name] = rss
                         if ranks == 2 and describe_splits(splits, step, waits):
                             notes_of_level.append(f"{name}, {1e3 * step:.2f} ms: "
                                              f"{describe_splits(splits, step, waits)}")
                 # The anonymous memory in runs of its own (see above).
-                for name, ranks, threads, balancing in configs:
-                    anonymous[name] = run(program, edited[balancing], work, ranks, threads,
+                for name, ranks, threads, variant in configs:
+                    anonymous[name] = run(program, edited[variant], work, ranks, threads,
                                           poll_memory=True)[2]
                 base = statistics.median(times[CONFIGS[0][0]])
                 for name, _, _, _ in configs:
@@ -282,6 +299,14 @@ def main():
                           f"{memory[name] / memory[CONFIGS[0][0]]:.2f} | "
                           f"{anonymous[name] / 1e6:.0f} | "
                           f"{anonymous[name] / anonymous[CONFIGS[0][0]]:.2f} |", flush=True)
+                # Against 2 threads, run by run (same round, one after the
+                # other): each other configuration's step over theirs.
+                threads = CONFIGS[1][0]
+                notes_of_level.extend(
+                    f"{name} / {threads}, run by run: "
+                    + ", ".join(f"{t / u:.3f}" for t, u in zip(times[name], times[threads]))
+                    + f" (median {statistics.median(t / u for t, u in zip(times[name], times[threads])):.3f})"
+                    for name, _, _, _ in configs if name not in (CONFIGS[0][0], threads))
                 # (After the table: the load balancing of each 2-rank run.)
                 notes.extend(f"- {method} level {level}, {line}" for line in notes_of_level)
     if notes:

@@ -277,7 +277,8 @@ set_tests_properties(mpi_history_2_ranks PROPERTIES TIMEOUT 600)
 # side by side as tasks, and the lumped pass, the energies and the
 # consistent mass's substitutions are split over the threads; the history
 # must be the same to the last bit. FEA and IGA, HRZ and consistent, a rigid
-# plane (one body), contact damping, the bipenalty, mass redistribution.
+# plane (one body), contact damping, the bipenalty, mass redistribution, and
+# each body's pass on one thread (Parallel/Thread partition = by body).
 add_test(NAME thread_history
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/thread_history.py
     $<TARGET_FILE:isoimpact_program> ${_work}/thread_history
@@ -287,5 +288,6 @@ add_test(NAME thread_history
     ${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_rigid_plane_coarse.prm
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Contact/Damping ratio=0.2"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Contact/Bipenalty=true"
-    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Contact/Mass redistribution=true")
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Contact/Mass redistribution=true"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Thread partition=by body")
 set_tests_properties(thread_history PROPERTIES TIMEOUT 600)

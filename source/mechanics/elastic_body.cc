@@ -70,14 +70,15 @@ namespace isoimpact
     }
 
     // range_terms(begin, end, sums) for the rows k < n in blocks of a fixed
-    // size over the threads, each block's sums into block_sums; returns
-    // their total, added in block order: the same bits whatever the
-    // threads.
+    // size over the threads (all on one thread if `one_task`), each block's
+    // sums into block_sums; returns their total, added in block order: the
+    // same bits whatever the threads.
     template <typename Sums, typename RangeTerms>
     Sums
     sum_over_blocks(const std::size_t  n,
                     std::vector<Sums> &block_sums,
-                    const RangeTerms  &range_terms)
+                    const RangeTerms  &range_terms,
+                    const bool         one_task)
     {
       constexpr std::size_t block_size = 4096; // even: rows in pairs
       const std::size_t     n_blocks   = (n + block_size - 1) / block_size;
@@ -95,7 +96,7 @@ namespace isoimpact
               block_sums[block] = sums;
             }
         },
-        1);
+        one_task ? std::max<std::size_t>(n_blocks, 1) : 1);
       Sums total;
       for (const Sums &sums : block_sums)
         total += sums;
@@ -107,16 +108,17 @@ namespace isoimpact
     Sums
     sum_by_blocks(const std::size_t  n,
                   std::vector<Sums> &block_sums,
-                  const RowTerms    &row_terms)
+                  const RowTerms    &row_terms,
+                  const bool         one_task)
     {
-      return sum_over_blocks(n,
-                             block_sums,
-                             [&](const std::size_t begin,
-                                 const std::size_t end,
-                                 Sums             &sums) {
-                               for (std::size_t k = begin; k < end; ++k)
-                                 row_terms(k, sums);
-                             });
+      return sum_over_blocks(
+        n,
+        block_sums,
+        [&](const std::size_t begin, const std::size_t end, Sums &sums) {
+          for (std::size_t k = begin; k < end; ++k)
+            row_terms(k, sums);
+        },
+        one_task);
     }
 
     // The diagonal and the nonzero entries of `matrix`, in their order, into
@@ -665,6 +667,13 @@ namespace isoimpact
 
   template <int dim>
   void
+  ElasticBody<dim>::set_pass_on_one_thread(const bool one_thread)
+  {
+    pass_on_one_thread = one_thread;
+  }
+
+  template <int dim>
+  void
   ElasticBody<dim>::restart_steps()
   {
     velocity_of_mass_product    = nullptr;
@@ -750,22 +759,23 @@ namespace isoimpact
     // where M v^{n+1/2} (of v constrained zero) is zero too. The kinetic
     // energy's constrained terms are then zero; the strain energy's are
     // taken out as in strain_energy_of_last_acceleration().
-    const double *a   = acceleration.data();
-    const double *rhs = r.data();
-    const double *u   = displacement.data();
-    const double *ku  = stiffness_times_u.data();
-    double       *vh  = half_step_velocity.data();
-    double       *mv  = mass_times_half_step_velocity.data();
-    StepEnergies  energies =
-      sum_by_blocks(n_dofs(),
-                    block_energies,
-                    [&](const std::size_t i, StepEnergies &sums) {
-                      const double previous = vh[i];
-                      vh[i]                 = previous + dt * a[i];
-                      mv[i] += dt * rhs[i];
-                      sums.kinetic += previous * mv[i];
-                      sums.strain += u[i] * ku[i];
-                    });
+    const double *a        = acceleration.data();
+    const double *rhs      = r.data();
+    const double *u        = displacement.data();
+    const double *ku       = stiffness_times_u.data();
+    double       *vh       = half_step_velocity.data();
+    double       *mv       = mass_times_half_step_velocity.data();
+    StepEnergies  energies = sum_by_blocks(
+      n_dofs(),
+      block_energies,
+      [&](const std::size_t i, StepEnergies &sums) {
+        const double previous = vh[i];
+        vh[i]                 = previous + dt * a[i];
+        mv[i] += dt * rhs[i];
+        sums.kinetic += previous * mv[i];
+        sums.strain += u[i] * ku[i];
+      },
+      pass_on_one_thread);
     for (const auto &line : body_constraints.get_lines())
       energies.strain -= u[line.index] * ku[line.index];
     energies.kinetic *= 0.5;
@@ -983,7 +993,8 @@ namespace isoimpact
                 k = piece_end;
               }
           }
-      });
+      },
+      pass_on_one_thread);
     // Claimed balancing: the band's chunks as this rank claims them, then
     // their values sent to the other rank (which may claim any of them in
     // the next pass).

@@ -299,6 +299,17 @@ namespace isoimpact
       "share no cell: the partition with no cut; the ranks exchange the "
       "contact surfaces only); else every body split over all ranks. "
       "split: every body split over all ranks.");
+    prm.declare_entry(
+      "Thread partition",
+      "dynamic",
+      Patterns::Selection("dynamic|by body"),
+      "How the threads of a process share the rows of the bodies' passes. "
+      "dynamic: in blocks of 4096 rows that the threads take as they come; "
+      "by body: each body's pass is one task, its rows on one thread (the "
+      "bodies side by side): the static split of 2 MPI ranks with the "
+      "bodies whole on ranks, without messages, to measure what the "
+      "dynamic sharing gains on a machine. The results have the same bits "
+      "either way.");
     prm.leave_subsection();
 
     prm.enter_subsection("Mass matrix");
@@ -589,7 +600,8 @@ namespace isoimpact
     {
       load_balancing =
         load_balancing_names.from_string(prm.get("Load balancing"));
-      split_every_body = prm.get("Distribution") == "split";
+      split_every_body           = prm.get("Distribution") == "split";
+      pass_of_body_on_one_thread = prm.get("Thread partition") == "by body";
     }
     prm.leave_subsection();
 

@@ -281,7 +281,9 @@ namespace isoimpact
                {"max_relative_residual", w.max_residual_ratio}};
       }
     // Several MPI ranks: each body's split at the end (load balancing).
-    summary["mpi_ranks"]                = n_world_ranks();
+    summary["mpi_ranks"] = n_world_ranks();
+    summary["thread_partition"] =
+      parameters.pass_of_body_on_one_thread ? "by body" : "dynamic";
     summary["bodies_whole_on_ranks"]    = scene.bodies_on_ranks;
     summary["ranks_meet_at_every_step"] = facts.ranks_meet_at_every_step;
     summary["mpi_wait_s_per_rank"]      = facts.seconds_waiting_per_rank;

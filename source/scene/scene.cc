@@ -508,6 +508,8 @@ namespace isoimpact
                                            rollers,
                                            body.initial_velocity,
                                            ranks ? &*ranks : nullptr);
+        scene.bodies[b]->set_pass_on_one_thread(
+          parameters.pass_of_body_on_one_thread);
         malloc_trim(0); // the body's temporaries, as above
       }
 

@@ -5,7 +5,8 @@ in blocks of a fixed size, and the consistent mass's factor is split into
 the same subtrees whatever the threads (mass_solver.cc): so every column of
 history.csv and the energy error of summary.json must not differ at all.
 A data race between the bodies' tasks, or a sum whose order follows the
-threads, would show here.
+threads, would show here. With Parallel/Thread partition = by body each
+body's pass is one task: the same bits again.
 
 Usage: thread_history.py PROGRAM WORKDIR CASE [CASE ...], a CASE being a
 parameter file, optionally followed by edits:
@@ -57,4 +58,7 @@ for case in sys.argv[3:]:
                     np.max(np.abs(one[column] - two[column])), 0., 0., relative=False)
     check_close(f"{label}: max energy error, 2 threads against 1",
                 two_summary["max_energy_error"], one_summary["max_energy_error"], 0.)
+    partition = edits.get("Parallel/Thread partition", "dynamic")
+    check_true(f"{label}: summary.json gives thread_partition = {partition}",
+               two_summary.get("thread_partition") == partition)
 report()

@@ -139,6 +139,12 @@ namespace isoimpact
       const bool              form_whole_step_state      = true,
       const bool              advance_displacement_ahead = false);
 
+    // Each pass of this body as one task (its rows on one thread; the
+    // blocks and their sums as before, so the same bits), or in blocks
+    // that the threads share as they come (the default).
+    void
+    set_pass_on_one_thread(const bool one_thread);
+
     // A new run of steps (CentralDifference::initialize()): the consistent
     // mass's M v^{n+1/2} carried between steps is formed again by the next
     // step (see energies_of_last_step()).
@@ -474,6 +480,7 @@ namespace isoimpact
     double                            displacement_ahead_step     = 0.;
     const dealii::Vector<double>     *displacement_ahead_velocity = nullptr;
     mutable std::vector<StepEnergies> block_energies;
+    bool                              pass_on_one_thread = false;
     // The consistent mass: M v^{n+1/2} and the vector it belongs to (see
     // advance_velocity_with_mass_times_velocity()).
     dealii::Vector<double>        mass_times_half_step_velocity;

@@ -78,7 +78,10 @@ namespace isoimpact
     LoadBalancing load_balancing = LoadBalancing::measured;
     // Parallel/Distribution: automatic (bodies whole on ranks where that
     // balances, scene.cc) or every body split over all ranks.
-    bool            split_every_body = false;
+    bool split_every_body = false;
+    // Parallel/Thread partition = by body: each body's pass one task (its
+    // rows on one thread), else in blocks the threads take as they come.
+    bool            pass_of_body_on_one_thread = false;
     ContactSettings contact;
     // Penalty = auto (Contact/Penalty, and Obstacle/Penalty for an
     // obstacle): k = penalty_scale_factor mu / dt^2 (scene.cc).
