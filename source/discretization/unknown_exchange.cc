@@ -335,14 +335,15 @@ namespace isoimpact
   }
 
   void
-  UnknownExchange::switch_split(const int target)
+  UnknownExchange::switch_split(
+    const int                                   target,
+    const std::vector<types::global_dof_index> &moved)
   {
     // Only the rows that change hands are touched (a move costs no pass
     // over all unknowns): their owner, the counts and this rank's ranges
     // (with them added or taken out). The lists of owned unknowns follow
     // when they are read (refresh_owned_lists()).
-    const auto         moved = rows_between(target);
-    const unsigned int from  = target > present_split ? 1 : 0;
+    const unsigned int from = target > present_split ? 1 : 0;
     for (const auto i : moved)
       {
         owner_of[i]   = 1 - from;
@@ -396,9 +397,7 @@ namespace isoimpact
           }
       }
     ranges.swap(joined);
-    range_offsets.assign(1, 0);
-    for (const auto &[first, end] : ranges)
-      range_offsets.push_back(range_offsets.back() + (end - first));
+    set_up_range_offsets();
     AssertThrow(range_offsets.back() == owned_count[rank], ExcInternalError());
     present_split = target;
     set_up_ghosts();
@@ -857,7 +856,7 @@ namespace isoimpact
             for (const auto i : layer_lists[s - min_split])
               (*vector)[i] = buffer[k++];
       }
-    switch_split(next_split);
+    switch_split(next_split, rows_between(next_split));
     ++moves;
   }
 
@@ -950,7 +949,11 @@ namespace isoimpact
       (*displacement)[i] = received[k++];
     for (const auto i : move_received_velocity_rows)
       (*half_step_velocity)[i] = received[k++];
-    switch_split(move_target);
+    // (prepare_move() kept the moved rows with the velocities' lists.)
+    const unsigned int from = move_target > present_split ? 1 : 0;
+    switch_split(move_target,
+                 rank == from ? move_sent_velocity_rows :
+                                move_received_velocity_rows);
     ++moves;
     ++moves_without_meeting;
   }
@@ -972,6 +975,12 @@ namespace isoimpact
         ++ranges.back().second;
       else
         ranges.emplace_back(i, i + 1);
+    set_up_range_offsets();
+  }
+
+  void
+  UnknownExchange::set_up_range_offsets()
+  {
     range_offsets.assign(1, 0);
     range_offsets.reserve(ranges.size() + 1);
     for (const auto &[first, end] : ranges)

@@ -411,9 +411,11 @@ namespace isoimpact
     void
     set_up_split();
     // The same after the layers between the present split and `target`
-    // changed hands (the present split becomes `target`).
+    // changed hands (the present split becomes `target`): `moved`, their
+    // rows (rows_between(target)).
     void
-    switch_split(const int target);
+    switch_split(const int                                           target,
+                 const std::vector<dealii::types::global_dof_index> &moved);
     // The lists of owned unknowns from owner_of, if a split changed them.
     void
     refresh_owned_lists() const;
@@ -451,6 +453,9 @@ namespace isoimpact
     // ranges and range_offsets from owned_here.
     void
     set_up_ranges();
+    // range_offsets from ranges.
+    void
+    set_up_range_offsets();
     // The received values into the ghosts of `vector`.
     void
     finish_update(dealii::Vector<double>                 &vector,
