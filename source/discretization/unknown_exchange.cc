@@ -268,12 +268,14 @@ namespace isoimpact
                 chunk_prefix.push_back(end);
               }
             set_up_ranges();
-            for (const auto i : band_rows)
-              owned_here[i] = owner_of[i] == rank;
-            // Rank 0's rows of the band at the partition's split.
+            // (owned_here back to the partition's split; rank 0's rows of
+            // the band there.)
             std::size_t band_rows_of_0 = 0;
             for (const auto i : band_rows)
-              band_rows_of_0 += owner_of[i] == 0;
+              {
+                owned_here[i] = owner_of[i] == rank;
+                band_rows_of_0 += owner_of[i] == 0;
+              }
             meeting_chunk  = 0;
             fixed_count[0] = owned_count[0] - band_rows_of_0;
             fixed_count[1] =

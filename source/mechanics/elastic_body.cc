@@ -688,15 +688,15 @@ namespace isoimpact
     const auto *values = row_exchange.complete_band_update(band_under_way);
     if (values == nullptr)
       return;
-    const unsigned int other = 1 - row_exchange.this_rank();
-    const auto [low, high]   = row_exchange.claimed_chunks(other);
-    std::size_t k            = 0;
+    std::size_t k = 0;
     for (Vector<double> *block : {band_velocity, &acceleration, &velocity})
       {
-        for (int c = low; c <= high; ++c)
-          for (const auto &[first, end] : row_exchange.chunk_ranges(c))
+        row_exchange.for_each_claimed_range(
+          1 - row_exchange.this_rank(),
+          [&](const std::size_t first, const std::size_t end) {
             for (std::size_t i = first; i < end; ++i)
               (*block)[i] = (*values)[k++];
+          });
         if (band_values_per_row == 1)
           break;
       }
@@ -1009,15 +1009,15 @@ namespace isoimpact
         energies += band_sums;
         band_values_per_row = form_whole_step_state ? 3 : 1;
         band_values.clear();
-        const auto [low, high] =
-          row_exchange.claimed_chunks(row_exchange.this_rank());
         for (const double *block : {vh, a, v})
           {
-            for (int c = low; c <= high; ++c)
-              for (const auto &[first, end] : row_exchange.chunk_ranges(c))
+            row_exchange.for_each_claimed_range(
+              row_exchange.this_rank(),
+              [&](const std::size_t first, const std::size_t end) {
                 band_values.insert(band_values.end(),
                                    block + first,
                                    block + end);
+              });
             if (band_values_per_row == 1)
               break;
           }
@@ -1149,15 +1149,15 @@ namespace isoimpact
         if (row_exchange.claims_band())
           {
             receive_band_values();
-            const unsigned int other = 1 - row_exchange.this_rank();
-            const auto [low, high]   = row_exchange.claimed_chunks(other);
-            const double *u          = displacement_ahead.data();
-            const double *v          = half_step_velocity.data();
-            double       *u_next     = displacement.data();
-            for (int c = low; c <= high; ++c)
-              for (const auto &[first, end] : row_exchange.chunk_ranges(c))
+            const double *u      = displacement_ahead.data();
+            const double *v      = half_step_velocity.data();
+            double       *u_next = displacement.data();
+            row_exchange.for_each_claimed_range(
+              1 - row_exchange.this_rank(),
+              [&](const std::size_t first, const std::size_t end) {
                 for (std::size_t i = first; i < end; ++i)
                   u_next[i] = u[i] + dt * v[i];
+              });
           }
         ghosts_received = true;
         return;

@@ -44,6 +44,15 @@ namespace isoimpact
       std::none_of(bodies.begin(), bodies.end(), [](const auto *body) {
         return body->exchange().is_distributed();
       });
+    step_order.resize(bodies.size());
+    std::iota(step_order.begin(), step_order.end(), 0u);
+    std::stable_partition(step_order.begin(),
+                          step_order.end(),
+                          [&](const unsigned int b) {
+                            const auto &exchange = bodies[b]->exchange();
+                            return !exchange.claims_band() ||
+                                   exchange.n_owned_unknowns() > 0;
+                          });
     bool damped_contact = false;
     for (const auto &interaction : contacts)
       {
@@ -219,23 +228,8 @@ namespace isoimpact
             tasks.join_all();
           }
         else
-          {
-            // Claimed balancing: each rank first steps the bodies of which
-            // it has rows outside the band, then claims what is left of the
-            // others' bands (so each rank may reach into all of them).
-            std::vector<unsigned int> order(bodies.size());
-            std::iota(order.begin(), order.end(), 0u);
-            std::stable_partition(order.begin(),
-                                  order.end(),
-                                  [&](const unsigned int b) {
-                                    const auto &exchange =
-                                      bodies[b]->exchange();
-                                    return !exchange.claims_band() ||
-                                           exchange.n_owned_unknowns() > 0;
-                                  });
-            for (const unsigned int b : order)
-              step_body(b);
-          }
+          for (const unsigned int b : step_order)
+            step_body(b);
         for (unsigned int b = 0; b < bodies.size(); ++b)
           force_is_zero[b] = bodies[b]->step_zeroes_force();
       }

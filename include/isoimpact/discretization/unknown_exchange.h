@@ -151,6 +151,16 @@ namespace isoimpact
     claimed_chunks(const unsigned int p) const;
     std::size_t
     n_claimed_rows(const unsigned int p) const;
+    // f(first, end) for the rows [first, end) of those chunks, in order.
+    template <typename RangeFunction>
+    void
+    for_each_claimed_range(const unsigned int p, const RangeFunction &f) const
+    {
+      const auto [low, high] = claimed_chunks(p);
+      for (int c = low; c <= high; ++c)
+        for (const auto &[first, end] : band_chunk_ranges[c])
+          f(first, end);
+    }
     // The next split from every rank's time of this step's pass over its
     // rows (seconds, in rank order; the same values on every rank).
     void

@@ -164,6 +164,11 @@ namespace isoimpact
     // Whether the bodies' steps run as parallel tasks (no body exchanges
     // messages in its step: one process).
     bool bodies_step_side_by_side = false;
+    // Otherwise the bodies' order in a step: with claimed balancing a rank
+    // first steps the bodies of which it has rows outside the band, then
+    // claims what is left of the others' bands (so it may reach into all
+    // of them); else the scene's order.
+    std::vector<unsigned int> step_order;
     // Per body: the unknowns of its contact surfaces (ascending), the only
     // ones a contact reads the displacement of and adds forces to. On one
     // process without mass redistribution a step advances these first and
