@@ -239,7 +239,10 @@ set_tests_properties(consistent_mass_solve_2_ranks PROPERTIES TIMEOUT 600)
 # step late in between, and a third on 3 ranks. Four cases share the band
 # within each step (Load balancing = claimed, session 38): whole bodies with
 # ParaView records, the history every 7th step, split bodies with contact
-# damping, and a rigid plane.
+# damping, and a rigid plane; four more with the state in memory both ranks
+# map (Load balancing = shared memory, session 40): whole and split FEA
+# bodies with ParaView records, split IGA bodies with contact damping, and a
+# rigid plane with the history every 7th step.
 add_test(NAME mpi_history_2_ranks
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/mpi_history.py
     $<TARGET_FILE:isoimpact_program> ${ISOIMPACT_MPIRUN} ${_work}/mpi_history
@@ -270,7 +273,11 @@ add_test(NAME mpi_history_2_ranks
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Load balancing=claimed@Output/VTU interval=301"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Load balancing=claimed@Output/History interval=7"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=claimed@Contact/Damping ratio=0.2"
-    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_rigid_plane_coarse.prm@Parallel/Load balancing=claimed")
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_rigid_plane_coarse.prm@Parallel/Load balancing=claimed"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Load balancing=shared memory@Output/VTU interval=301"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=shared memory@Output/VTU interval=301"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=shared memory@Contact/Damping ratio=0.2"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_rigid_plane_coarse.prm@Parallel/Load balancing=shared memory@Output/History interval=7")
 set_tests_properties(mpi_history_2_ranks PROPERTIES TIMEOUT 600)
 
 # One thread against two (one process): on two threads the bodies' steps run

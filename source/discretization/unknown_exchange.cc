@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <thread>
 
 using namespace dealii;
 
@@ -47,13 +48,20 @@ namespace isoimpact
 
   // The claims' counter: one integer in rank 0's memory, which both ranks
   // of a node map (MPI_Win_allocate_shared), in a passive epoch for the
-  // whole run; atomic increments (MPI_Fetch_and_op).
+  // whole run; atomic increments (MPI_Fetch_and_op). Beside it each rank's
+  // count of passes, and with Load balancing = shared memory the body's
+  // state (a second window), read and written in place.
   struct UnknownExchange::ClaimWindow
   {
-    MPI_Comm node   = MPI_COMM_NULL;
-    MPI_Win  window = MPI_WIN_NULL;
+    MPI_Comm   node         = MPI_COMM_NULL;
+    MPI_Win    window       = MPI_WIN_NULL;
+    MPI_Win    state_window = MPI_WIN_NULL;
+    long long *passes       = nullptr; // one per rank
+    double    *state        = nullptr;
 
-    explicit ClaimWindow(const MPI_Comm communicator, const unsigned int rank)
+    ClaimWindow(const MPI_Comm     communicator,
+                const unsigned int rank,
+                const std::size_t  n_state_values)
     {
       int ierr = MPI_Comm_split_type(communicator,
                                      MPI_COMM_TYPE_SHARED,
@@ -64,21 +72,45 @@ namespace isoimpact
       int node_size = 0;
       MPI_Comm_size(node, &node_size);
       AssertThrow(node_size == 2,
-                  ExcMessage("Load balancing = claimed needs both MPI ranks "
-                             "on one node (a counter in shared memory); "
-                             "use measured"));
-      long long *counter = nullptr;
-      ierr = MPI_Win_allocate_shared(rank == 0 ? sizeof(long long) : 0,
+                  ExcMessage("Load balancing = claimed or shared memory "
+                             "needs both MPI ranks on one node (memory both "
+                             "map); use measured"));
+      long long *counters = nullptr;
+      ierr = MPI_Win_allocate_shared(rank == 0 ? 3 * sizeof(long long) : 0,
                                      sizeof(long long),
                                      MPI_INFO_NULL,
                                      node,
-                                     &counter,
+                                     &counters,
                                      &window);
       AssertThrowMPI(ierr);
+      MPI_Aint size = 0;
+      int      unit = 0;
+      ierr          = MPI_Win_shared_query(window, 0, &size, &unit, &counters);
+      AssertThrowMPI(ierr);
+      passes = counters + 1;
+      if (n_state_values > 0)
+        {
+          ierr = MPI_Win_allocate_shared(rank == 0 ?
+                                           n_state_values * sizeof(double) :
+                                           0,
+                                         sizeof(double),
+                                         MPI_INFO_NULL,
+                                         node,
+                                         &state,
+                                         &state_window);
+          AssertThrowMPI(ierr);
+          ierr = MPI_Win_shared_query(state_window, 0, &size, &unit, &state);
+          AssertThrowMPI(ierr);
+          AssertThrow(static_cast<std::size_t>(size) ==
+                        n_state_values * sizeof(double),
+                      ExcInternalError());
+          ierr = MPI_Win_lock_all(MPI_MODE_NOCHECK, state_window);
+          AssertThrowMPI(ierr);
+        }
       ierr = MPI_Win_lock_all(MPI_MODE_NOCHECK, window);
       AssertThrowMPI(ierr);
       if (rank == 0)
-        *counter = 0;
+        counters[0] = counters[1] = counters[2] = 0;
       MPI_Win_sync(window);
       MPI_Barrier(node);
       MPI_Win_sync(window);
@@ -88,6 +120,11 @@ namespace isoimpact
     {
       if (!mpi_is_running())
         return;
+      if (state_window != MPI_WIN_NULL)
+        {
+          MPI_Win_unlock_all(state_window);
+          MPI_Win_free(&state_window);
+        }
       MPI_Win_unlock_all(window);
       MPI_Win_free(&window);
       MPI_Comm_free(&node);
@@ -224,7 +261,7 @@ namespace isoimpact
           layer_of_shared.push_back(layer[i]);
         cost_per_row.assign(2, 0.);
         set_up_split();
-        if (balancing == LoadBalancing::claimed)
+        if (claims_band())
           {
             // The band's rows less the shared unknowns: the contact forces
             // land on these, and only their owner has them (it computes
@@ -441,9 +478,7 @@ namespace isoimpact
     // both the shared unknowns the other owns (claimed balancing: the
     // other's layer next to the band, and the shared unknowns it owns at
     // the present split).
-    const int layer = balancing != LoadBalancing::claimed ?
-                        split :
-                        (p == 0 ? max_split : min_split);
+    const int layer = !claims_band() ? split : (p == 0 ? max_split : min_split);
     std::vector<types::global_dof_index> needs =
       layer_lists[layer + (p == 0 ? 1 : 0) - min_split];
     for (std::size_t k = 0; k < shared_unknowns.size(); ++k)
@@ -525,14 +560,55 @@ namespace isoimpact
   bool
   UnknownExchange::claims_band() const
   {
-    return balancing == LoadBalancing::claimed;
+    return balancing == LoadBalancing::claimed ||
+           balancing == LoadBalancing::shared_memory;
+  }
+
+  bool
+  UnknownExchange::shares_state() const
+  {
+    return balancing == LoadBalancing::shared_memory;
   }
 
   void
-  UnknownExchange::open_claims()
+  UnknownExchange::open_claims(const std::size_t n_shared_values)
   {
     if (claims_band() && !claim_window)
-      claim_window = std::make_shared<ClaimWindow>(comm, rank);
+      claim_window =
+        std::make_shared<ClaimWindow>(comm,
+                                      rank,
+                                      shares_state() ? n_shared_values : 0);
+  }
+
+  double *
+  UnknownExchange::shared_values() const
+  {
+    AssertThrow(claim_window && claim_window->state != nullptr,
+                ExcMessage("open_claims() with shared values first"));
+    return claim_window->state;
+  }
+
+  void
+  UnknownExchange::end_shared_pass()
+  {
+    // The release orders the pass's writes before the count: the other
+    // rank that reads the count (acquire) sees them.
+    long long *own = claim_window->passes + rank;
+    __atomic_store_n(own, *own + 1, __ATOMIC_RELEASE);
+  }
+
+  void
+  UnknownExchange::wait_for_other_pass() const
+  {
+    const long long  own   = claim_window->passes[rank];
+    const long long *other = claim_window->passes + (1 - rank);
+    if (__atomic_load_n(other, __ATOMIC_ACQUIRE) >= own)
+      return;
+    const WaitClock clock;
+    for (unsigned int spins = 0; __atomic_load_n(other, __ATOMIC_ACQUIRE) < own;
+         ++spins)
+      if (spins > 1000)
+        std::this_thread::yield(); // (more ranks than cores)
   }
 
   bool
@@ -730,7 +806,7 @@ namespace isoimpact
     std::array<double, 2> rows = {{0., 0.}};
     for (const auto *exchange : exchanges)
       for (unsigned int p = 0; p < 2; ++p)
-        rows[p] += exchange->balancing == LoadBalancing::claimed ?
+        rows[p] += exchange->claims_band() ?
                      exchange->fixed_count[p] + exchange->n_claimed_rows(p) :
                      exchange->owned_count[p];
     first.pass_history.push_back({{{seconds[0], seconds[1]}}, rows});
@@ -761,7 +837,7 @@ namespace isoimpact
       }
     for (auto *exchange : exchanges)
       exchange->cost_per_row = first.cost_per_row;
-    if (first.balancing == LoadBalancing::claimed)
+    if (first.claims_band())
       return; // (the time per row reported only)
     const auto &cost = first.cost_per_row;
     if (!(cost[0] > 0. && cost[1] > 0.) || averaged < least_averaged ||

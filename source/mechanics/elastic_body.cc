@@ -221,6 +221,8 @@ namespace isoimpact
         message_tag_offset      = 2 * ranks->index;
         if (row_exchange.claims_band())
           list_band_constraints();
+        if (row_exchange.shares_state())
+          surface_rows = ranks->shared;
         // The rows: those the rank may own (with load balancing, the
         // band of the other rank's rows too), and with shared_rows the
         // shared unknowns' (on every rank).
@@ -640,7 +642,15 @@ namespace isoimpact
         // Load balancing: the pass's time decides the next split.
         const auto start = std::chrono::steady_clock::now();
         double    *ahead = nullptr;
-        if (advance_displacement_ahead)
+        if (row_exchange.shares_state())
+          {
+            AssertThrow(shared_state_live && advance_displacement_ahead,
+                        ExcMessage("Load balancing = shared memory: the "
+                                   "step forms the next displacement "
+                                   "ahead, in the shared state"));
+            ahead = shared_array(1 - present_displacement);
+          }
+        else if (advance_displacement_ahead)
           {
             if (displacement_ahead.size() != displacement.size())
               displacement_ahead.reinit(displacement.size());
@@ -655,6 +665,8 @@ namespace isoimpact
             displacement_ahead_step     = dt;
             displacement_ahead_velocity = &half_step_velocity;
           }
+        if (row_exchange.shares_state())
+          row_exchange.end_shared_pass();
         last_pass_seconds = std::chrono::duration<double>(
                               std::chrono::steady_clock::now() - start)
                               .count();
@@ -679,6 +691,8 @@ namespace isoimpact
     velocity_of_mass_product    = nullptr;
     displacement_ahead_velocity = nullptr;
     drop_ghosts_sent_ahead();
+    if (shared_state_live)
+      copy_shared_state(nullptr, true);
   }
 
   template <int dim>
@@ -819,13 +833,17 @@ namespace isoimpact
     // The entries in the pattern's order: the diagonal of row 0 is the
     // first (square matrix, rowstart[0] = 0).
     const double *values = has_rows ? &stiffness.diag_element(0) : nullptr;
-    const double *u      = displacement.data();
-    double       *force  = f.data();
-    const double *w      = step_inverse_mass.data();
-    const double *mass   = lumped_mass.data();
-    double       *a      = acceleration.data();
-    double       *v      = velocity.data();
-    double       *vh     = half_step_velocity.data();
+    // Load balancing = shared memory: the state where both ranks read and
+    // write it.
+    const bool    shared = owned_rows_only && row_exchange.shares_state();
+    const double *u =
+      shared ? shared_array(present_displacement) : displacement.data();
+    double       *force = f.data();
+    const double *w     = step_inverse_mass.data();
+    const double *mass  = lumped_mass.data();
+    double       *a     = shared ? shared_array(3) : acceleration.data();
+    double       *v     = shared ? shared_array(4) : velocity.data();
+    double       *vh    = shared ? shared_array(2) : half_step_velocity.data();
     // On several ranks the owned unknowns, as ranges of rows (ascending);
     // the energies' blocks count them in this order.
     const auto       &ranges = row_exchange.owned_ranges();
@@ -933,16 +951,18 @@ namespace isoimpact
     // other rank reads at the new split or takes over, and the velocity of
     // the latter (the ranks switch where it is received, the next
     // advance_displacement()).
-    const bool moving =
-      owned_rows_only && u_ahead != nullptr && row_exchange.move_is_due();
+    // (Nothing is sent with the state shared.)
+    const bool sends  = owned_rows_only && u_ahead != nullptr && !shared;
+    const bool moving = sends && row_exchange.move_is_due();
     if (moving)
       row_exchange.prepare_move();
-    const auto &sent =
-      moving ? row_exchange.move_sent_unknowns() : row_exchange.sent_unknowns();
-    const auto &moved = moving ? row_exchange.move_sent_rows() :
-                                 std::vector<types::global_dof_index>();
+    const std::vector<types::global_dof_index> none;
+    const auto                                &sent = !sends ? none :
+                                                      moving ? row_exchange.move_sent_unknowns() :
+                                                               row_exchange.sent_unknowns();
+    const auto &moved = moving ? row_exchange.move_sent_rows() : none;
     if constexpr (owned_rows_only)
-      if (u_ahead != nullptr)
+      if (sends)
         {
           sent_values.resize(sent.size() + moved.size());
           const auto acceleration_of = [&](const std::size_t i) {
@@ -1007,6 +1027,9 @@ namespace isoimpact
           for (const auto &[first, end] : row_exchange.chunk_ranges(chunk))
             step_rows(first, end, band_sums);
         energies += band_sums;
+      }
+    if (claims && !shared)
+      {
         band_values_per_row = form_whole_step_state ? 3 : 1;
         band_values.clear();
         for (const double *block : {vh, a, v})
@@ -1128,8 +1151,35 @@ namespace isoimpact
         return;
       }
     ghosts_received = false;
-    if (displacement_ahead_velocity == &half_step_velocity &&
-        displacement_ahead_step == dt)
+    const bool formed_ahead =
+      displacement_ahead_velocity == &half_step_velocity &&
+      displacement_ahead_step == dt;
+    if (shared_state_live)
+      {
+        if (formed_ahead)
+          {
+            // The next displacement is the present one, once the other
+            // rank's pass is over; the contact reads the surfaces' rows
+            // from the vectors. v^{n+1/2} of this rank's own (the other
+            // rank's next pass may be changing the other's: the contact
+            // damping's ghost update brings them).
+            present_displacement        = 1 - present_displacement;
+            displacement_ahead_velocity = nullptr;
+            row_exchange.wait_for_other_pass();
+            const double *u  = shared_array(present_displacement);
+            const double *vh = shared_array(2);
+            for (const auto i : surface_rows)
+              {
+                displacement[i] = u[i];
+                if (row_exchange.is_owned(i))
+                  half_step_velocity[i] = vh[i];
+              }
+            ghosts_received = true;
+            return;
+          }
+        copy_shared_state(&half_step_velocity, true);
+      }
+    if (formed_ahead)
       {
         // Formed by the last pass: its owned entries are those of the
         // update below; the ghosts the owners sent from their passes, and
@@ -1181,6 +1231,8 @@ namespace isoimpact
     // A move due: here, the ranks meet (the ghosts then follow the new
     // split in the caller's update).
     row_exchange.apply_split({&displacement, &half_step_velocity});
+    if (row_exchange.shares_state())
+      fill_shared_state(half_step_velocity);
   }
 
   template <int dim>
@@ -1311,7 +1363,62 @@ namespace isoimpact
   void
   ElasticBody<dim>::open_claims()
   {
-    row_exchange.open_claims();
+    row_exchange.open_claims(shared_state_arrays * n_dofs());
+    if (row_exchange.shares_state())
+      shared_state = row_exchange.shared_values();
+  }
+
+  template <int dim>
+  double *
+  ElasticBody<dim>::shared_array(const unsigned int k) const
+  {
+    return shared_state + std::size_t(k) * n_dofs();
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::fill_shared_state(const Vector<double> &half_step_velocity)
+  {
+    double    *u    = shared_array(present_displacement);
+    double    *vh   = shared_array(2);
+    const auto fill = [&](const std::size_t first, const std::size_t end) {
+      std::copy(displacement.data() + first,
+                displacement.data() + end,
+                u + first);
+      std::copy(half_step_velocity.data() + first,
+                half_step_velocity.data() + end,
+                vh + first);
+    };
+    for (const auto &[first, end] : row_exchange.owned_ranges())
+      fill(first, end);
+    if (row_exchange.this_rank() == 0)
+      for (int c = 0; c < row_exchange.n_band_chunks(); ++c)
+        for (const auto &[first, end] : row_exchange.chunk_ranges(c))
+          fill(first, end);
+    const int ierr = MPI_Barrier(row_exchange.communicator());
+    AssertThrowMPI(ierr);
+    shared_state_live = true;
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::copy_shared_state(Vector<double> *half_step_velocity,
+                                      const bool      release)
+  {
+    row_exchange.wait_for_other_pass();
+    const std::size_t n = n_dofs();
+    const double     *u = shared_array(present_displacement);
+    std::copy(u, u + n, displacement.data());
+    std::copy(shared_array(3), shared_array(3) + n, acceleration.data());
+    std::copy(shared_array(4), shared_array(4) + n, velocity.data());
+    if (half_step_velocity != nullptr)
+      std::copy(shared_array(2),
+                shared_array(2) + n,
+                half_step_velocity->data());
+    // (The other rank's next pass writes the arrays.)
+    const int ierr = MPI_Barrier(row_exchange.communicator());
+    AssertThrowMPI(ierr);
+    shared_state_live = !release;
   }
 
   template <int dim>
@@ -1320,6 +1427,11 @@ namespace isoimpact
   {
     if (replicated_state)
       return;
+    if (shared_state_live)
+      {
+        copy_shared_state(nullptr, false);
+        return;
+      }
     receive_band_values(); // the band's whole-step state
     row_exchange.gather(displacement);
     row_exchange.gather(velocity);

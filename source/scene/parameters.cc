@@ -286,7 +286,9 @@ namespace isoimpact
       "(measured), stay where the partition put them (off), or move one "
       "layer per step back and forth (sweep: a check of the machinery); "
       "claimed: both ranks hold those rows, and each step's pass shares "
-      "them as the ranks reach them (both ranks on one node). "
+      "them as the ranks reach them (both ranks on one node); shared "
+      "memory: claimed, with the bodies' state in memory both ranks map, "
+      "so that the step sends no message (both ranks on one node). "
       "The results have the same bits in every case.");
     prm.declare_entry(
       "Distribution",

@@ -298,6 +298,7 @@ namespace isoimpact
            {"unknowns", body->n_dofs()},
            {"load_balancing", exchange.balances_load()},
            {"claims_band", exchange.claims_band()},
+           {"shares_state", exchange.shares_state()},
            {"split_layers", exchange.split()},
            {"band_chunks", exchange.n_band_chunks()},
            {"band_chunks_of_rank_0", exchange.n_chunks_of_rank_0()},

@@ -126,6 +126,8 @@ for case in sys.argv[4:]:
     # gave the other rank some of its layers farthest from the contact
     # surface: at most the band (30 % of the body, or one layer).
     balancing = edits.get("Parallel/Load balancing", "measured")
+    # Claimed, with the state in messages or in shared memory.
+    claimed = balancing in ("claimed", "shared memory")
     # A lumped mass without hanging nodes or bipenalty: each pass forms the
     # next displacement ahead, and a move of the load balancing goes with
     # its early send (the ranks switch at the next step, without a
@@ -137,7 +139,7 @@ for case in sys.argv[4:]:
         owned = split["owned_unknowns_per_rank"]
         if not whole:
             expected = min(owned) > 0 and sum(owned) == split["unknowns"]
-        elif balancing in ("off", "claimed"):
+        elif balancing == "off" or claimed:
             # (Claimed: the owners of output and sums stay the partition's.)
             expected = owned == [split["unknowns"] if r == b else 0
                                  for r in range(ranks)]
@@ -150,9 +152,12 @@ for case in sys.argv[4:]:
         if balancing in ("off", "sweep"):
             check_true(f"{label}: {split['body']}: load balancing {balancing}",
                        split["load_balancing"] == (balancing == "sweep"))
-        if balancing == "claimed":
+        if claimed:
             check_true(f"{label}: {split['body']}: the band claimed within the step, "
                        f"no moves", split["claims_band"] and split["moves"] == 0)
+        check_true(f"{label}: {split['body']}: the state in shared memory: "
+                   f"{balancing == 'shared memory'} expected",
+                   split["shares_state"] == (balancing == "shared memory"))
         if balancing == "sweep":
             # Split: layers on both sides of the interface; whole: the band
             # of the body, on its owner's side only.
@@ -192,7 +197,7 @@ for case in sys.argv[4:]:
             for row in csv.DictReader(file):
                 balanced.setdefault(row["balanced"], []).append(row)
     measured = [split for split in splits
-                if balancing in ("measured", "claimed") and split["load_balancing"]]
+                if (balancing == "measured" or claimed) and split["load_balancing"]]
     expected_groups = ({"bodies whole on ranks"} if whole and measured else
                        {split["body"] for split in measured})
     check_true(f"{label}: the results line lists pass_times.csv if it was written "
@@ -219,7 +224,7 @@ for case in sys.argv[4:]:
                        for r in rows_of_group for p in (0, 1)))
         # Claimed: the rows each rank computed follow each pass's meeting
         # in the band (not the partition's split at every step).
-        if balancing == "claimed":
+        if claimed:
             counts = {row["rank_0_rows"] for row in rows_of_group}
             check_true(f"{label}: {group}: rank 0's rows in {len(counts)} different "
                        f"counts over the passes (at least 2)", len(counts) >= 2)

@@ -39,22 +39,28 @@ namespace isoimpact
    * a time from either end (an atomic counter in memory both ranks share)
    * until they meet, and send each other what they computed
    * (doc/parallel.md, session 38).
+   * shared_memory: claimed, with the body's state in memory both ranks map
+   * (MPI_Win_allocate_shared): each rank writes its rows where the other
+   * reads them, and the step sends no message (doc/parallel.md, session
+   * 40).
    */
   enum class LoadBalancing
   {
     off,
     measured,
     sweep,
-    claimed
+    claimed,
+    shared_memory
   };
 
   // Their names in Parallel/Load balancing.
-  inline constexpr EnumNames<LoadBalancing, 4> load_balancing_names{
+  inline constexpr EnumNames<LoadBalancing, 5> load_balancing_names{
     "load balancing",
     {{{LoadBalancing::measured, "measured"},
       {LoadBalancing::off, "off"},
       {LoadBalancing::sweep, "sweep"},
-      {LoadBalancing::claimed, "claimed"}}}};
+      {LoadBalancing::claimed, "claimed"},
+      {LoadBalancing::shared_memory, "shared memory"}}}};
 
   class UnknownExchange
   {
@@ -125,10 +131,24 @@ namespace isoimpact
     // first, rank 1 from the last.
     bool
     claims_band() const;
+    // Load balancing = shared memory (claims_band() too).
+    bool
+    shares_state() const;
     // Opens the claims' counter (collective: every rank opens those of
-    // the bodies in the same order; nothing without claimed balancing).
+    // the bodies in the same order; nothing without claimed balancing),
+    // and with shares_state() n_shared_values doubles in memory both ranks
+    // map (shared_values()).
     void
-    open_claims();
+    open_claims(const std::size_t n_shared_values = 0);
+    double *
+    shared_values() const;
+    // shares_state(): this rank's pass over the shared values is over (its
+    // writes become visible to the other rank), and the wait until the
+    // other rank has ended as many passes (counted in seconds_waiting()).
+    void
+    end_shared_pass();
+    void
+    wait_for_other_pass() const;
     // The next chunk of the band for this rank in this step's pass, or
     // false once the ranks have met (the step's claims end; both ranks
     // claim until then, in every pass of the body).

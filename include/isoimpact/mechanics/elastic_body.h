@@ -351,7 +351,8 @@ namespace isoimpact
     gather_state();
     // Several ranks with claimed load balancing: opens the claims' counter
     // (collective: every rank calls it for the bodies in the same order,
-    // before the first step).
+    // before the first step); with Load balancing = shared memory the
+    // state's arrays in memory both ranks map.
     void
     open_claims();
 
@@ -474,6 +475,32 @@ namespace isoimpact
     // sent with them).
     void
     drop_ghosts_sent_ahead();
+    // Load balancing = shared memory (doc/parallel.md, session 40): the
+    // state in memory both ranks map, shared_state_arrays arrays of
+    // n_dofs() values: two displacements (the present one and the next,
+    // which the pass forms ahead), v^{n+1/2}, a and v. The passes read and
+    // write them in place; the vectors above and the caller's v^{n+1/2}
+    // receive the contact surfaces' rows at each step (surface_rows) and
+    // the rest where the ranks meet (gather_state(), a new run of steps).
+    // live: the arrays hold the state (filled by the first step's
+    // advance_displacement()).
+    static constexpr unsigned int                shared_state_arrays  = 5;
+    double                                      *shared_state         = nullptr;
+    bool                                         shared_state_live    = false;
+    unsigned int                                 present_displacement = 0;
+    std::vector<dealii::types::global_dof_index> surface_rows;
+    double *
+    shared_array(const unsigned int k) const;
+    // This rank's rows of the vectors (its fixed rows, rank 0 the band's
+    // too) into the arrays; then the ranks meet: the arrays are live.
+    void
+    fill_shared_state(const dealii::Vector<double> &half_step_velocity);
+    // The whole arrays into the vectors (the caller's v^{n+1/2} if given)
+    // once the other rank's pass is over; the ranks meet after it, and the
+    // arrays stay live unless `release`.
+    void
+    copy_shared_state(dealii::Vector<double> *half_step_velocity,
+                      const bool              release);
     // The next displacement the pass formed ahead, the step and the
     // velocity vector it belongs to (none: nullptr).
     dealii::Vector<double>            displacement_ahead;
