@@ -277,6 +277,27 @@ namespace isoimpact
                                         i))
                   band_rows.push_back(i);
             std::sort(band_rows.begin(), band_rows.end());
+            // A body whole on a rank with the state shared: no ghosts to
+            // send, so the band need not be layers; as many rows, the last
+            // ones by index (consecutive but for the shared unknowns), and
+            // the owner's fixed rows the first ones.
+            if (shares_state() && whole_body)
+              {
+                const std::size_t n_band = band_rows.size();
+                band_rows.clear();
+                for (types::global_dof_index i = n;
+                     i > 0 && band_rows.size() < n_band;
+                     --i)
+                  if (!std::binary_search(sorted_shared.begin(),
+                                          sorted_shared.end(),
+                                          i - 1))
+                    band_rows.push_back(i - 1);
+                std::reverse(band_rows.begin(), band_rows.end());
+                const unsigned int owner =
+                  partition.owned_unknowns(0).n_elements() == 0 ? 1 : 0;
+                if (rank != owner)
+                  potential_rows = band_rows;
+              }
             // The claims take the band in chunks of consecutive rows (a
             // layer's rows lie scattered over the index range, a few in a
             // row, and a pass over them was slower): about 2000 rows each
