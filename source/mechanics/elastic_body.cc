@@ -222,7 +222,12 @@ namespace isoimpact
         if (row_exchange.claims_band())
           list_band_constraints();
         if (row_exchange.shares_state())
-          surface_rows = ranks->shared;
+          {
+            surface_rows = ranks->shared;
+            for (const auto i : surface_rows)
+              if (row_exchange.is_owned(i))
+                own_surface_rows.push_back(i);
+          }
         // The rows: those the rank may own (with load balancing, the
         // band of the other rank's rows too), and with shared_rows the
         // shared unknowns' (on every rank).
@@ -1169,11 +1174,9 @@ namespace isoimpact
             const double *u  = shared_array(present_displacement);
             const double *vh = shared_array(2);
             for (const auto i : surface_rows)
-              {
-                displacement[i] = u[i];
-                if (row_exchange.is_owned(i))
-                  half_step_velocity[i] = vh[i];
-              }
+              displacement[i] = u[i];
+            for (const auto i : own_surface_rows)
+              half_step_velocity[i] = vh[i];
             ghosts_received = true;
             return;
           }
