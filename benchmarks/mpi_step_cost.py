@@ -26,13 +26,15 @@ least), and the memory per process:
 
 usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--steps 200]
                                           [--build build] [--mass HRZ|consistent] [--claimed]
-                                          [--by-body] [--shared-memory]
+                                          [--by-body] [--measured]
                                           [--method "FEA Q9"|"IGA p2" ...]
   --quick: the 1e5 levels only; --fine: the 1e6 levels only.
   --claimed: also 2 ranks with Parallel/Load balancing = claimed.
-  --shared-memory: also 2 ranks with Parallel/Load balancing = shared
-    memory (claimed, the state in memory both ranks map: no messages in
-    the step).
+  --measured: also 2 ranks with Parallel/Load balancing = measured (the
+    rows move between the ranks between steps, towards equal pass times;
+    the default across nodes). The 2-rank runs without it use the
+    default, automatic: here shared memory (claimed within the step, the
+    state in memory both ranks map, no messages in the step).
   --by-body: also 2 threads with Parallel/Thread partition = by body (each
     body's pass on one thread, the static split of 2 ranks with bodies whole
     on ranks, without messages: what sharing each step's rows as the threads
@@ -69,15 +71,16 @@ CONFIGS = [("1 rank x 1 thread", 1, 1, None), ("1 rank x 2 threads", 1, 2, None)
 # --claimed: 2 ranks with Parallel/Load balancing = claimed (the band shared
 # within each step) beside the default (measured).
 CLAIMED = ("2 ranks x 1 thread, claimed", 2, 1, "claimed")
-# --shared-memory: 2 ranks with Parallel/Load balancing = shared memory.
-SHARED = ("2 ranks x 1 thread, shared memory", 2, 1, "shared memory")
+# --measured: 2 ranks with Parallel/Load balancing = measured (the default,
+# automatic, is shared memory on one node).
+MEASURED = ("2 ranks x 1 thread, measured", 2, 1, "measured")
 # --by-body: 2 threads with Parallel/Thread partition = by body (each body's
 # pass on one thread: the static split of 2 ranks with bodies whole on ranks,
 # without messages).
 BY_BODY = ("1 rank x 2 threads, by body", 1, 2, "by body")
 # The parameter each variant sets.
 VARIANT_EDITS = {"claimed": {"Parallel/Load balancing": "claimed"},
-                 "shared memory": {"Parallel/Load balancing": "shared memory"},
+                 "measured": {"Parallel/Load balancing": "measured"},
                  "by body": {"Parallel/Thread partition": "by body"}}
 
 
@@ -251,15 +254,15 @@ def main():
     parser.add_argument("--mass", choices=["HRZ", "consistent"], default="HRZ")
     parser.add_argument("--claimed", action="store_true",
                         help="also 2 ranks with Load balancing = claimed")
-    parser.add_argument("--shared-memory", action="store_true",
-                        help="also 2 ranks with Load balancing = shared memory")
+    parser.add_argument("--measured", action="store_true",
+                        help="also 2 ranks with Load balancing = measured")
     parser.add_argument("--by-body", action="store_true",
                         help="also 2 threads with Thread partition = by body")
     parser.add_argument("--method", choices=list(CASES), action="append",
                         help="only this method (repeatable; default: all)")
     args = parser.parse_args()
     configs = (CONFIGS + ([CLAIMED] if args.claimed else []) +
-               ([SHARED] if args.shared_memory else []) +
+               ([MEASURED] if args.measured else []) +
                ([BY_BODY] if args.by_body else []))
     program = os.path.join(args.build, "isoimpact")
     for tool in ["/usr/bin/time", "mpirun"]:

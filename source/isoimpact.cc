@@ -217,11 +217,31 @@ namespace isoimpact
             << "own unknowns (body 1: "
             << scene.bodies[0]->exchange().owned_unknowns().size()
             << " on rank 0)\n";
+    // The load balancing in force (automatic resolved: shared memory where
+    // both ranks are on one node).
+    bool shares_state = false;
+    for (const auto &body : scene.bodies)
+      if (body->exchange().balances_load())
+        {
+          shares_state = body->exchange().shares_state();
+          pcout << "  load balancing: "
+                << load_balancing_names.to_string(
+                     body->exchange().load_balancing())
+                << (parameters.load_balancing == LoadBalancing::automatic ?
+                      " (automatic: shared memory where both ranks are on "
+                      "one node, else measured)\n" :
+                      "\n");
+          break;
+        }
     if (n_ranks > 1)
       pcout << "  the ranks "
             << (integrator->ranks_meet_at_every_step() ?
                   "meet at every step (consistent mass, hanging nodes, "
                   "mass redistribution, bipenalty or contact damping)\n" :
+                shares_state ?
+                  "need not meet at every step: each waits for the "
+                  "other's pass only, and the energies are summed one step "
+                  "late\n" :
                   "need not meet at every step: each sends the displacement "
                   "the others read from its pass, and the energies are "
                   "summed one step late\n");

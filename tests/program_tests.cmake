@@ -230,19 +230,21 @@ set_tests_properties(consistent_mass_solve_2_ranks PROPERTIES TIMEOUT 600)
 # ranks (IGA consistent: the third rank has no subtree of the mass's factor).
 # Two bodies of equal size with a lumped mass go whole to a rank each
 # (Parallel/Distribution = automatic); the split cases divide every body
-# between the ranks. Load balancing (2 ranks, lumped mass) is measured by
-# default; the sweep cases move the rows near the ranks' interface (split)
+# between the ranks. Load balancing (2 ranks, lumped mass) is automatic by
+# default: the ranks of a test are on one node, so the state is in memory
+# both ranks map (shared memory, sessions 40-41); one rigid-plane case asks
+# for shared memory by name. Four cases ask for measured (the default across
+# nodes): whole and split FEA bodies with ParaView records, split IGA bodies
+# with contact damping, split IGA bodies with the history every 5th step.
+# The sweep cases move the rows near the ranks' interface (split)
 # or the layers of a body farthest from its contact surface (whole bodies)
 # every step; one whole-body case keeps the bodies whole (off). Ranks with a
-# lumped mass need not meet at every step (session 34): two cases write the
+# lumped mass need not meet at every step (session 34): cases write the
 # history at every 7th and 5th step, so that the energies are summed one
-# step late in between, and a third on 3 ranks. Four cases share the band
+# step late in between, and one on 3 ranks. Four cases share the band
 # within each step (Load balancing = claimed, session 38): whole bodies with
 # ParaView records, the history every 7th step, split bodies with contact
-# damping, and a rigid plane; four more with the state in memory both ranks
-# map (Load balancing = shared memory, session 40): whole and split FEA
-# bodies with ParaView records, split IGA bodies with contact damping, and a
-# rigid plane with the history every 7th step.
+# damping, and a rigid plane.
 add_test(NAME mpi_history_2_ranks
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/mpi_history.py
     $<TARGET_FILE:isoimpact_program> ${ISOIMPACT_MPIRUN} ${_work}/mpi_history
@@ -268,15 +270,15 @@ add_test(NAME mpi_history_2_ranks
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Contact/Mass redistribution=true"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_consistent_coarse.prm@Output/VTU interval=600@ranks=3"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Output/History interval=7"
-    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split@Output/History interval=5"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=measured@Output/History interval=5"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@ranks=3@Output/History interval=3"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Load balancing=claimed@Output/VTU interval=301"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Load balancing=claimed@Output/History interval=7"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=claimed@Contact/Damping ratio=0.2"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_rigid_plane_coarse.prm@Parallel/Load balancing=claimed"
-    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Load balancing=shared memory@Output/VTU interval=301"
-    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=shared memory@Output/VTU interval=301"
-    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=shared memory@Contact/Damping ratio=0.2"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Load balancing=measured@Output/VTU interval=301"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=measured@Output/VTU interval=301"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=measured@Contact/Damping ratio=0.2"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_rigid_plane_coarse.prm@Parallel/Load balancing=shared memory@Output/History interval=7")
 set_tests_properties(mpi_history_2_ranks PROPERTIES TIMEOUT 600)
 

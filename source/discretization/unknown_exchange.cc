@@ -44,6 +44,21 @@ namespace isoimpact
       MPI_Finalized(&finalized);
       return initialized != 0 && finalized == 0;
     }
+
+    // The ranks of `communicator` that share this rank's node (memory both
+    // map), ordered by rank.
+    MPI_Comm
+    node_communicator(const MPI_Comm communicator, const unsigned int rank)
+    {
+      MPI_Comm  node = MPI_COMM_NULL;
+      const int ierr = MPI_Comm_split_type(communicator,
+                                           MPI_COMM_TYPE_SHARED,
+                                           rank,
+                                           MPI_INFO_NULL,
+                                           &node);
+      AssertThrowMPI(ierr);
+      return node;
+    }
   } // namespace
 
   // The claims' counter: one integer in rank 0's memory, which both ranks
@@ -63,12 +78,7 @@ namespace isoimpact
                 const unsigned int rank,
                 const std::size_t  n_state_values)
     {
-      int ierr = MPI_Comm_split_type(communicator,
-                                     MPI_COMM_TYPE_SHARED,
-                                     rank,
-                                     MPI_INFO_NULL,
-                                     &node);
-      AssertThrowMPI(ierr);
+      node          = node_communicator(communicator, rank);
       int node_size = 0;
       MPI_Comm_size(node, &node_size);
       AssertThrow(node_size == 2,
@@ -76,12 +86,12 @@ namespace isoimpact
                              "needs both MPI ranks on one node (memory both "
                              "map); use measured"));
       long long *counters = nullptr;
-      ierr = MPI_Win_allocate_shared(rank == 0 ? 3 * sizeof(long long) : 0,
-                                     sizeof(long long),
-                                     MPI_INFO_NULL,
-                                     node,
-                                     &counters,
-                                     &window);
+      int ierr = MPI_Win_allocate_shared(rank == 0 ? 3 * sizeof(long long) : 0,
+                                         sizeof(long long),
+                                         MPI_INFO_NULL,
+                                         node,
+                                         &counters,
+                                         &window);
       AssertThrowMPI(ierr);
       MPI_Aint size = 0;
       int      unit = 0;
@@ -192,9 +202,19 @@ namespace isoimpact
 
     if (n_procs == 2 && load_balancing != LoadBalancing::off)
       {
+        balancing = load_balancing;
+        if (balancing == LoadBalancing::automatic)
+          {
+            // Shared memory where both ranks map the node's memory.
+            MPI_Comm node      = node_communicator(communicator, rank);
+            int      node_size = 0;
+            MPI_Comm_size(node, &node_size);
+            MPI_Comm_free(&node);
+            balancing = node_size == 2 ? LoadBalancing::shared_memory :
+                                         LoadBalancing::measured;
+          }
         // The band: the interface layers of each part, nearest first, up
         // to band_fraction of the part's unknowns.
-        balancing         = load_balancing;
         const auto &layer = partition.interface_layers();
         AssertThrow(layer.size() == n,
                     ExcMessage("load balancing needs the partition's layers "
@@ -576,6 +596,12 @@ namespace isoimpact
   UnknownExchange::balances_load() const
   {
     return balancing != LoadBalancing::off;
+  }
+
+  LoadBalancing
+  UnknownExchange::load_balancing() const
+  {
+    return balancing;
   }
 
   bool

@@ -277,7 +277,7 @@ namespace isoimpact
     prm.enter_subsection("Parallel");
     prm.declare_entry(
       "Load balancing",
-      "measured",
+      "automatic",
       Patterns::Selection(load_balancing_names.selection()),
       "On 2 MPI ranks with lumped mass: the rows near the ranks' interface "
       "(bodies split), or a body's rows farthest from its contact surface "
@@ -288,8 +288,9 @@ namespace isoimpact
       "claimed: both ranks hold those rows, and each step's pass shares "
       "them as the ranks reach them (both ranks on one node); shared "
       "memory: claimed, with the bodies' state in memory both ranks map, "
-      "so that the step sends no message (both ranks on one node). "
-      "The results have the same bits in every case.");
+      "so that the step sends no message (both ranks on one node); "
+      "automatic: shared memory where both ranks are on one node, else "
+      "measured. The results have the same bits in every case.");
     prm.declare_entry(
       "Distribution",
       "automatic",

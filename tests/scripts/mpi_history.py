@@ -122,12 +122,6 @@ for case in sys.argv[4:]:
              edits.get("Contact/Mass redistribution", "false") == "false")
     check_true(f"{label}: bodies whole on ranks: {whole} expected",
                parallel_summary["bodies_whole_on_ranks"] == whole)
-    # Bodies whole on ranks: body b on rank b - 1, unless load balancing
-    # gave the other rank some of its layers farthest from the contact
-    # surface: at most the band (30 % of the body, or one layer).
-    balancing = edits.get("Parallel/Load balancing", "measured")
-    # Claimed, with the state in messages or in shared memory.
-    claimed = balancing in ("claimed", "shared memory")
     # A lumped mass without hanging nodes or bipenalty: each pass forms the
     # next displacement ahead, and a move of the load balancing goes with
     # its early send (the ranks switch at the next step, without a
@@ -135,6 +129,18 @@ for case in sys.argv[4:]:
     ahead = (scheme != "consistent" and not (method == "fea" and local != "0") and
              edits.get("Contact/Bipenalty", "false") == "false" and
              edits.get("Contact/Mass redistribution", "false") == "false")
+    # Bodies whole on ranks: body b on rank b - 1, unless load balancing
+    # gave the other rank some of its layers farthest from the contact
+    # surface: at most the band (30 % of the body, or one layer).
+    # Automatic (the default) is shared memory, both ranks of the test
+    # being on one node. Load balancing needs 2 ranks and the step above.
+    balancing = edits.get("Parallel/Load balancing", "automatic")
+    if balancing == "automatic":
+        balancing = "shared memory"
+    if ranks != 2 or not ahead:
+        balancing = "off"
+    # Claimed, with the state in messages or in shared memory.
+    claimed = balancing in ("claimed", "shared memory")
     for b, split in enumerate(splits):
         owned = split["owned_unknowns_per_rank"]
         if not whole:
@@ -175,6 +181,9 @@ for case in sys.argv[4:]:
         check_close(f"{label}: {split['body']}: moves without a meeting "
                     f"(of {split['moves']})", split["moves_without_meeting"],
                     split["moves"] if ahead else 0, 0)
+    check_true(f"{label}: the set-up names the load balancing in force "
+               f"({balancing})",
+               (f"load balancing: {balancing}" in stdout) == (balancing != "off"))
     check_true(f"{label}: the progress is printed once (rank 0)",
                stdout.count("max energy error") == 1)
     # Each rank's waits for the others' messages: part of its run.

@@ -43,9 +43,13 @@ namespace isoimpact
    * (MPI_Win_allocate_shared): each rank writes its rows where the other
    * reads them, and the step sends no message (doc/parallel.md, session
    * 40).
+   * automatic: shared_memory where both ranks are on one node, measured
+   * where they are not (the constructor decides; doc/parallel.md,
+   * session 41).
    */
   enum class LoadBalancing
   {
+    automatic,
     off,
     measured,
     sweep,
@@ -54,9 +58,10 @@ namespace isoimpact
   };
 
   // Their names in Parallel/Load balancing.
-  inline constexpr EnumNames<LoadBalancing, 5> load_balancing_names{
+  inline constexpr EnumNames<LoadBalancing, 6> load_balancing_names{
     "load balancing",
-    {{{LoadBalancing::measured, "measured"},
+    {{{LoadBalancing::automatic, "automatic"},
+      {LoadBalancing::measured, "measured"},
       {LoadBalancing::off, "off"},
       {LoadBalancing::sweep, "sweep"},
       {LoadBalancing::claimed, "claimed"},
@@ -121,6 +126,9 @@ namespace isoimpact
     // Load balancing (collective calls, every rank alike).
     bool
     balances_load() const;
+    // The balancing in force (off without it; automatic resolved).
+    LoadBalancing
+    load_balancing() const;
 
     // Claimed balancing (LoadBalancing::claimed): owned_ranges() and
     // n_owned_unknowns() are then the rows outside the band (each rank's

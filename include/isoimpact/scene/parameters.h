@@ -75,7 +75,7 @@ namespace isoimpact
 
     MassScheme mass_scheme = MassScheme::hrz;
     // Parallel/Load balancing (2 MPI ranks).
-    LoadBalancing load_balancing = LoadBalancing::measured;
+    LoadBalancing load_balancing = LoadBalancing::automatic;
     // Parallel/Distribution: automatic (bodies whole on ranks where that
     // balances, scene.cc) or every body split over all ranks.
     bool split_every_body = false;
