@@ -121,9 +121,24 @@ namespace isoimpact
       AssertThrowMPI(ierr);
       if (rank == 0)
         counters[0] = counters[1] = counters[2] = 0;
+      if (state != nullptr)
+        {
+          // Each rank zeroes half of the state, and after the barrier
+          // reads a value of every page: the pages are mapped into both
+          // processes here, in the set-up, not in the first step.
+          const std::size_t half = n_state_values / 2;
+          std::fill(state + (rank == 0 ? 0 : half),
+                    state + (rank == 0 ? half : n_state_values),
+                    0.);
+          MPI_Win_sync(state_window);
+        }
       MPI_Win_sync(window);
       MPI_Barrier(node);
       MPI_Win_sync(window);
+      double sum_of_page_values = 0;
+      for (std::size_t i = 0; i < n_state_values; i += 512)
+        sum_of_page_values += static_cast<volatile double *>(state)[i];
+      AssertThrow(sum_of_page_values == 0., ExcInternalError());
     }
 
     ~ClaimWindow()
