@@ -69,7 +69,7 @@ CASES = {"FEA Q9": ("prm/hertz_fea_hrz.prm", [5, 7]),
 CONFIGS = [("1 rank x 1 thread", 1, 1, None), ("1 rank x 2 threads", 1, 2, None),
            ("2 ranks x 1 thread", 2, 1, None)]
 # --claimed: 2 ranks with Parallel/Load balancing = claimed (the band shared
-# within each step) beside the default (measured).
+# within each step) beside the default (automatic: shared memory here).
 CLAIMED = ("2 ranks x 1 thread, claimed", 2, 1, "claimed")
 # --measured: 2 ranks with Parallel/Load balancing = measured (the default,
 # automatic, is shared memory on one node).
@@ -318,7 +318,9 @@ def main():
                 notes_of_level.extend(
                     f"{name} / {threads}, run by run: "
                     + ", ".join(f"{t / u:.3f}" for t, u in zip(times[name], times[threads]))
-                    + f" (median {statistics.median(t / u for t, u in zip(times[name], times[threads])):.3f})"
+                    + f" (median {statistics.median(t / u for t, u in zip(times[name], times[threads])):.3f}; "
+                    f"no slower in {sum(t <= u for t, u in zip(times[name], times[threads]))} "
+                    f"of {len(times[name])})"
                     for name, _, _, _ in configs if name not in (CONFIGS[0][0], threads))
                 # (After the table: the load balancing of each 2-rank run.)
                 notes.extend(f"- {method} level {level}, {line}" for line in notes_of_level)

@@ -229,7 +229,8 @@ namespace isoimpact
                      body->exchange().load_balancing())
                 << (parameters.load_balancing == LoadBalancing::automatic ?
                       " (automatic: shared memory where both ranks are on "
-                      "one node, else measured)\n" :
+                      "one node and /dev/shm has room for the state, else "
+                      "measured)\n" :
                       "\n");
           break;
         }

@@ -3,9 +3,13 @@
 
 #include <isoimpact/discretization/unknown_exchange.h>
 
+#include <sys/statvfs.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdio>
+#include <limits>
 #include <thread>
 
 using namespace dealii;
@@ -59,6 +63,23 @@ namespace isoimpact
       AssertThrowMPI(ierr);
       return node;
     }
+
+    // The bytes free in /dev/shm, where Open MPI places the files of its
+    // shared-memory windows on Linux (MCA osc_sm_backing_directory), as
+    // the node's first rank sees them (the same on every rank); infinite
+    // where there is no /dev/shm to ask.
+    double
+    free_shared_memory_bytes(const MPI_Comm node)
+    {
+      double free_bytes = std::numeric_limits<double>::infinity();
+      int    node_rank  = 0;
+      MPI_Comm_rank(node, &node_rank);
+      struct statvfs status;
+      if (node_rank == 0 && statvfs("/dev/shm", &status) == 0)
+        free_bytes = double(status.f_bavail) * double(status.f_frsize);
+      MPI_Bcast(&free_bytes, 1, MPI_DOUBLE, 0, node);
+      return free_bytes;
+    }
   } // namespace
 
   // The claims' counter: one integer in rank 0's memory, which both ranks
@@ -85,6 +106,23 @@ namespace isoimpact
                   ExcMessage("Load balancing = claimed or shared memory "
                              "needs both MPI ranks on one node (memory both "
                              "map); use measured"));
+      const double needed     = n_state_values * sizeof(double);
+      const double free_bytes = free_shared_memory_bytes(node);
+      const auto   megabytes  = [](const double bytes) {
+        char text[32];
+        std::snprintf(text, sizeof(text), "%.1f", bytes / 1e6);
+        return std::string(text);
+      };
+      AssertThrow(needed <= free_bytes,
+                  ExcMessage("Load balancing = shared memory: a body's state "
+                             "needs " +
+                             megabytes(needed) +
+                             " MB in /dev/shm (where Open MPI maps its "
+                             "shared memory), " +
+                             megabytes(free_bytes) +
+                             " MB are free; use Parallel/Load balancing = "
+                             "measured, or a larger /dev/shm (docker run "
+                             "--shm-size)"));
       long long *counters = nullptr;
       int ierr = MPI_Win_allocate_shared(rank == 0 ? 3 * sizeof(long long) : 0,
                                          sizeof(long long),
@@ -220,13 +258,18 @@ namespace isoimpact
         balancing = load_balancing;
         if (balancing == LoadBalancing::automatic)
           {
-            // Shared memory where both ranks map the node's memory.
+            // Shared memory where both ranks map the node's memory, and
+            // /dev/shm has room for this body's state and another's as
+            // large.
             MPI_Comm node      = node_communicator(communicator, rank);
             int      node_size = 0;
             MPI_Comm_size(node, &node_size);
+            const double needed =
+              2. * shared_state_values_per_unknown * n * sizeof(double);
+            const bool room = free_shared_memory_bytes(node) >= needed;
             MPI_Comm_free(&node);
-            balancing = node_size == 2 ? LoadBalancing::shared_memory :
-                                         LoadBalancing::measured;
+            balancing = node_size == 2 && room ? LoadBalancing::shared_memory :
+                                                 LoadBalancing::measured;
           }
         // The band: the interface layers of each part, nearest first, up
         // to band_fraction of the part's unknowns.

@@ -142,6 +142,9 @@ namespace isoimpact
     // Load balancing = shared memory (claims_band() too).
     bool
     shares_state() const;
+    // The shared state's values per unknown (the present and the next
+    // displacement, v^{n+1/2}, a, v).
+    static constexpr unsigned int shared_state_values_per_unknown = 5;
     // Opens the claims' counter (collective: every rank opens those of
     // the bodies in the same order; nothing without claimed balancing),
     // and with shares_state() n_shared_values doubles in memory both ranks

@@ -484,10 +484,11 @@ namespace isoimpact
     // the rest where the ranks meet (gather_state(), a new run of steps).
     // live: the arrays hold the state (filled by the first step's
     // advance_displacement()).
-    static constexpr unsigned int shared_state_arrays  = 5;
-    double                       *shared_state         = nullptr;
-    bool                          shared_state_live    = false;
-    unsigned int                  present_displacement = 0;
+    static constexpr unsigned int shared_state_arrays =
+      UnknownExchange::shared_state_values_per_unknown;
+    double      *shared_state         = nullptr;
+    bool         shared_state_live    = false;
+    unsigned int present_displacement = 0;
     // The contact surfaces' unknowns, and those this rank owns (whose
     // v^{n+1/2} it copies: only the owner writes them), at set-up.
     std::vector<dealii::types::global_dof_index> surface_rows, own_surface_rows;
