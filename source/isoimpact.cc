@@ -228,9 +228,9 @@ namespace isoimpact
                 << load_balancing_names.to_string(
                      body->exchange().load_balancing())
                 << (parameters.load_balancing == LoadBalancing::automatic ?
-                      " (automatic: shared memory where both ranks are on "
-                      "one node and /dev/shm has room for the state, else "
-                      "measured)\n" :
+                      " (automatic: shared memory for bodies whole on "
+                      "ranks where both ranks are on one node and /dev/shm "
+                      "has room for the state, else measured)\n" :
                       "\n");
           break;
         }

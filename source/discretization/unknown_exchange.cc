@@ -255,12 +255,22 @@ namespace isoimpact
 
     if (n_procs == 2 && load_balancing != LoadBalancing::off)
       {
-        balancing = load_balancing;
+        // The band: the interface layers of each part, nearest first, up
+        // to band_fraction of the part's unknowns.
+        balancing         = load_balancing;
+        const auto &layer = partition.interface_layers();
+        AssertThrow(layer.size() == n,
+                    ExcMessage("load balancing needs the partition's layers "
+                               "(a body whole on a rank: its anchors)"));
+        whole_body = partition.owned_unknowns(0).n_elements() == 0 ||
+                     partition.owned_unknowns(1).n_elements() == 0;
         if (balancing == LoadBalancing::automatic)
           {
-            // Shared memory where both ranks map the node's memory, and
-            // /dev/shm has room for this body's state and another's as
-            // large.
+            // Shared memory for a body whole on a rank, where both ranks
+            // map the node's memory and /dev/shm has room for this body's
+            // state and another's as large; measured else (a split body's
+            // band is its interface layers, whose rows lie scattered:
+            // measured was the faster there, doc/parallel.md, session 41).
             MPI_Comm node      = node_communicator(communicator, rank);
             int      node_size = 0;
             MPI_Comm_size(node, &node_size);
@@ -268,17 +278,10 @@ namespace isoimpact
               2. * shared_state_values_per_unknown * n * sizeof(double);
             const bool room = free_shared_memory_bytes(node) >= needed;
             MPI_Comm_free(&node);
-            balancing = node_size == 2 && room ? LoadBalancing::shared_memory :
-                                                 LoadBalancing::measured;
+            balancing = whole_body && node_size == 2 && room ?
+                          LoadBalancing::shared_memory :
+                          LoadBalancing::measured;
           }
-        // The band: the interface layers of each part, nearest first, up
-        // to band_fraction of the part's unknowns.
-        const auto &layer = partition.interface_layers();
-        AssertThrow(layer.size() == n,
-                    ExcMessage("load balancing needs the partition's layers "
-                               "(a body whole on a rank: its anchors)"));
-        whole_body = partition.owned_unknowns(0).n_elements() == 0 ||
-                     partition.owned_unknowns(1).n_elements() == 0;
         const auto layer_counts = [&](const unsigned int part) {
           std::vector<std::size_t> counts;
           for (types::global_dof_index i = 0; i < n; ++i)

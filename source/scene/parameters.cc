@@ -289,9 +289,10 @@ namespace isoimpact
       "them as the ranks reach them (both ranks on one node); shared "
       "memory: claimed, with the bodies' state in memory both ranks map, "
       "so that the step sends no message (both ranks on one node); "
-      "automatic: shared memory where both ranks are on one node and "
-      "/dev/shm has room for twice a body's state (40 bytes per unknown), "
-      "else measured. The results have the same bits in every case.");
+      "automatic: shared memory for bodies whole on ranks where both "
+      "ranks are on one node and /dev/shm has room for twice a body's "
+      "state (40 bytes per unknown), else measured. The results have the "
+      "same bits in every case.");
     prm.declare_entry(
       "Distribution",
       "automatic",

@@ -132,11 +132,12 @@ for case in sys.argv[4:]:
     # Bodies whole on ranks: body b on rank b - 1, unless load balancing
     # gave the other rank some of its layers farthest from the contact
     # surface: at most the band (30 % of the body, or one layer).
-    # Automatic (the default) is shared memory, both ranks of the test
-    # being on one node. Load balancing needs 2 ranks and the step above.
+    # Automatic (the default) is shared memory for bodies whole on ranks,
+    # both ranks of the test being on one node, and measured for split
+    # bodies. Load balancing needs 2 ranks and the step above.
     balancing = edits.get("Parallel/Load balancing", "automatic")
     if balancing == "automatic":
-        balancing = "shared memory"
+        balancing = "shared memory" if whole else "measured"
     if ranks != 2 or not ahead:
         balancing = "off"
     # Claimed, with the state in messages or in shared memory.

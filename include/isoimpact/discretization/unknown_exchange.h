@@ -43,9 +43,9 @@ namespace isoimpact
    * (MPI_Win_allocate_shared): each rank writes its rows where the other
    * reads them, and the step sends no message (doc/parallel.md, session
    * 40).
-   * automatic: shared_memory where both ranks are on one node, measured
-   * where they are not (the constructor decides; doc/parallel.md,
-   * session 41).
+   * automatic: shared_memory for a body whole on a rank where both ranks
+   * are on one node and /dev/shm has room, measured else (the constructor
+   * decides; doc/parallel.md, session 41).
    */
   enum class LoadBalancing
   {
