@@ -35,9 +35,11 @@ usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--s
   --claimed: also 2 ranks with Parallel/Load balancing = claimed.
   --measured: also 2 ranks with Parallel/Load balancing = measured (the
     rows move between the ranks between steps, towards equal pass times;
-    the default across nodes). The 2-rank runs without it use the
-    default, automatic: here shared memory (claimed within the step, the
-    state in memory both ranks map, no messages in the step).
+    the default across nodes and for bodies split over the ranks). The
+    2-rank runs without it use the default, automatic: for the two bodies,
+    whole on ranks, shared memory here (claimed within the step, the state
+    in memory both ranks map, no messages in the step); for the rigid
+    plane's split body measured, as with --measured.
   --by-body: also 2 threads with Parallel/Thread partition = by body (each
     body's pass on one thread, the static split of 2 ranks with bodies whole
     on ranks, without messages: what sharing each step's rows as the threads
@@ -76,10 +78,11 @@ NAMED_ONLY = {"FEA Q9 rigid plane": ("prm/hertz_fea_hrz_rigid_plane.prm", [6, 7]
 CONFIGS = [("1 rank x 1 thread", 1, 1, None), ("1 rank x 2 threads", 1, 2, None),
            ("2 ranks x 1 thread", 2, 1, None)]
 # --claimed: 2 ranks with Parallel/Load balancing = claimed (the band shared
-# within each step) beside the default (automatic: shared memory here).
+# within each step) beside the default (automatic: shared memory here for
+# bodies whole on ranks, measured for a split body).
 CLAIMED = ("2 ranks x 1 thread, claimed", 2, 1, "claimed")
 # --measured: 2 ranks with Parallel/Load balancing = measured (the default,
-# automatic, is shared memory on one node).
+# automatic, is shared memory on one node for bodies whole on ranks).
 MEASURED = ("2 ranks x 1 thread, measured", 2, 1, "measured")
 # --by-body: 2 threads with Parallel/Thread partition = by body (each body's
 # pass on one thread: the static split of 2 ranks with bodies whole on ranks,
