@@ -217,8 +217,8 @@ namespace isoimpact
             << "own unknowns (body 1: "
             << scene.bodies[0]->exchange().owned_unknowns().size()
             << " on rank 0)\n";
-    // The load balancing in force (automatic resolved: shared memory where
-    // both ranks are on one node).
+    // The load balancing in force (automatic resolved by UnknownExchange:
+    // shared memory for bodies whole on ranks on one node, else measured).
     bool shares_state = false;
     for (const auto &body : scene.bodies)
       if (body->exchange().balances_load())
