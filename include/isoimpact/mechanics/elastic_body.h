@@ -455,18 +455,12 @@ namespace isoimpact
     // Claimed balancing: the band's values this rank computed in the last
     // pass, sent after it (v^{n+1/2}, then with the whole step's state a
     // and v), their number per row, and the vector v^{n+1/2} they belong
-    // to; the constrained rows among the rows outside the band, and in
-    // each chunk of the band.
-    std::vector<double>                          band_values;
-    int                                          message_tag_offset = 0;
-    UnknownExchange::UpdateUnderWay              band_under_way;
-    unsigned int                                 band_values_per_row = 1;
-    dealii::Vector<double>                      *band_velocity       = nullptr;
-    std::vector<dealii::types::global_dof_index> fixed_constrained_rows;
-    std::vector<std::vector<dealii::types::global_dof_index>>
-      band_constrained_rows;
-    void
-    list_band_constraints();
+    // to.
+    std::vector<double>             band_values;
+    int                             message_tag_offset = 0;
+    UnknownExchange::UpdateUnderWay band_under_way;
+    unsigned int                    band_values_per_row = 1;
+    dealii::Vector<double>         *band_velocity       = nullptr;
     // Waits for the band's values of the other rank's last pass (nothing if
     // received): its v^{n+1/2} (and a, v) into this rank's vectors.
     void
