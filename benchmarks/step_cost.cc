@@ -79,9 +79,9 @@ main(int argc, char **argv)
           products.emplace_back(body->n_dofs());
         }
       // Each contact model's view of the bodies (forces into scratch).
-      std::vector<std::vector<const Vector<double> *>> contact_displacements,
-        contact_velocities;
-      std::vector<std::vector<Vector<double> *>> contact_forces;
+      std::vector<std::vector<ArrayView<const double>>> contact_displacements;
+      std::vector<std::vector<const Vector<double> *>>  contact_velocities;
+      std::vector<std::vector<Vector<double> *>>        contact_forces;
       for (const auto &interaction : scene.interactions)
         {
           std::vector<unsigned int> body_indices = {interaction.first_body};
@@ -93,7 +93,7 @@ main(int argc, char **argv)
           for (const unsigned int b : body_indices)
             {
               contact_displacements.back().push_back(
-                &scene.bodies[b]->displacement);
+                scene.bodies[b]->contact_displacement());
               contact_velocities.back().push_back(&scene.bodies[b]->velocity);
               contact_forces.back().push_back(&forces[b]);
             }

@@ -62,13 +62,13 @@ namespace isoimpact
   Point<dim>
   current_position(const BoundarySegment<dim>        &segment,
                    const SurfaceQuadraturePoint<dim> &point,
-                   const Vector<double>              &u)
+                   const ArrayView<const double>      u)
   {
     Point<dim> x;
     for (unsigned int k = 0; k < point.shape_values.size(); ++k)
       for (unsigned int d = 0; d < dim; ++d)
         x[d] += point.shape_values[k] *
-                (segment.node_positions[k][d] + u(segment.node_dofs[k][d]));
+                (segment.node_positions[k][d] + u[segment.node_dofs[k][d]]);
     return x;
   }
 
@@ -307,7 +307,7 @@ namespace isoimpact
       void
       update(const std::vector<BoundarySegment<dim>> &segments,
              const std::vector<double>               &reference_lengths,
-             const Vector<double>                    &u);
+             const ArrayView<const double>            u);
 
       // Search: the segments whose bounding box contains x.
       void
@@ -427,7 +427,7 @@ namespace isoimpact
     CurrentSurface<dim>::update(
       const std::vector<BoundarySegment<dim>> &segments,
       const std::vector<double>               &reference_lengths,
-      const Vector<double>                    &u)
+      const ArrayView<const double>            u)
     {
       AssertDimension(segments.size() + 1, first_node.size());
       this->segments = &segments;
@@ -456,7 +456,7 @@ namespace isoimpact
           for (unsigned int k = first; k < first + n_nodes; ++k)
             for (unsigned int d = 0; d < dim; ++d)
               {
-                nodes[k][d] = reference_nodes[k][d] + u(node_dofs[dim * k + d]);
+                nodes[k][d] = reference_nodes[k][d] + u[node_dofs[dim * k + d]];
                 lower[d]    = std::min(lower[d], nodes[k][d]);
                 upper[d]    = std::max(upper[d], nodes[k][d]);
               }
@@ -906,10 +906,10 @@ namespace isoimpact
   template <int dim>
   ContactResult<dim>
   PenaltyContact<dim>::evaluate(
-    const std::vector<const Vector<double> *> &displacements,
-    const std::vector<const Vector<double> *> &velocities,
-    const std::vector<Vector<double> *>       &forces,
-    const bool                                 record_points) const
+    const std::vector<ArrayView<const double>> &displacements,
+    const std::vector<const Vector<double> *>  &velocities,
+    const std::vector<Vector<double> *>        &forces,
+    const bool                                  record_points) const
   {
     AssertDimension(displacements.size(), 2);
     AssertDimension(forces.size(), 2);
@@ -931,7 +931,7 @@ namespace isoimpact
           updates += Threads::new_task([this, &displacements, b]() {
             current_surfaces[b]->update(surfaces[b].segments,
                                         surfaces[b].reference_lengths,
-                                        *displacements[b]);
+                                        displacements[b]);
           });
         }
       updates.join_all();
@@ -1149,7 +1149,7 @@ namespace isoimpact
   template Point<2>
   current_position(const BoundarySegment<2> &,
                    const SurfaceQuadraturePoint<2> &,
-                   const Vector<double> &);
+                   const ArrayView<const double>);
   template void
   distribute_point_force(const BoundarySegment<2> &,
                          const std::vector<double> &,

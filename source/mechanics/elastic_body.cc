@@ -221,8 +221,7 @@ namespace isoimpact
         message_tag_offset      = 2 * ranks->index;
         if (row_exchange.shares_state())
           {
-            surface_rows = ranks->shared;
-            for (const auto i : surface_rows)
+            for (const auto i : ranks->shared)
               if (row_exchange.is_owned(i))
                 own_surface_rows.push_back(i);
           }
@@ -1125,19 +1124,19 @@ namespace isoimpact
         if (formed_ahead)
           {
             // The next displacement is the present one, once the other
-            // rank's pass is over; the contact reads the surfaces' rows
-            // from the vectors. v^{n+1/2} of this rank's own (the other
-            // rank's next pass may be changing the other's: the contact
-            // damping's ghost update brings them).
+            // rank's pass is over; the contact reads its surfaces' rows
+            // there (contact_displacement(): neither rank writes that array
+            // before both have passed the next step). The contact damping's
+            // v^{n+1/2}: this rank's own rows (the other rank's next pass
+            // may be changing the other's: the damping's ghost update
+            // brings them).
             present_displacement        = 1 - present_displacement;
             displacement_ahead_velocity = nullptr;
             row_exchange.wait_for_other_pass();
-            const double *u  = shared_array(present_displacement);
             const double *vh = shared_array(2);
-            for (const auto i : surface_rows)
-              displacement[i] = u[i];
-            for (const auto i : own_surface_rows)
-              half_step_velocity[i] = vh[i];
+            if (contact_reads_velocity)
+              for (const auto i : own_surface_rows)
+                half_step_velocity[i] = vh[i];
             ghosts_received = true;
             return;
           }
@@ -1321,6 +1320,22 @@ namespace isoimpact
   ElasticBody<dim>::displacement_ghosts_received() const
   {
     return ghosts_received;
+  }
+
+  template <int dim>
+  ArrayView<const double>
+  ElasticBody<dim>::contact_displacement() const
+  {
+    if (shared_state_live)
+      return {shared_array(present_displacement), n_dofs()};
+    return {displacement.data(), displacement.size()};
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::set_contact_reads_velocity(const bool reads)
+  {
+    contact_reads_velocity = reads;
   }
 
   template <int dim>

@@ -134,10 +134,10 @@ namespace isoimpact
   template <int dim>
   ContactResult<dim>
   RigidObstacleContact<dim>::evaluate(
-    const std::vector<const Vector<double> *> &displacements,
-    const std::vector<const Vector<double> *> &velocities,
-    const std::vector<Vector<double> *>       &forces,
-    const bool                                 record_points) const
+    const std::vector<ArrayView<const double>> &displacements,
+    const std::vector<const Vector<double> *>  &velocities,
+    const std::vector<Vector<double> *>        &forces,
+    const bool                                  record_points) const
   {
     AssertDimension(displacements.size(), 1);
     AssertDimension(forces.size(), 1);
@@ -153,10 +153,9 @@ namespace isoimpact
       {
         const auto      &point   = points[q];
         const auto      &segment = segments[point.segment];
-        const Point<dim> x =
-          current_position(segment, point, *displacements[0]);
-        Tensor<1, dim> n;
-        const double   g = rigid_obstacle.gap(x, n);
+        const Point<dim> x = current_position(segment, point, displacements[0]);
+        Tensor<1, dim>   n;
+        const double     g = rigid_obstacle.gap(x, n);
         if (!(g < 0.))
           continue;
         // Traction -eps g n on the body, i.e. -dPi/dx with Pi = eps/2 g^2,

@@ -78,15 +78,18 @@ namespace isoimpact
         std::vector<unsigned int> involved = {interaction.first_body};
         if (interaction.contact->n_bodies() == 2)
           involved.push_back(interaction.second_body);
-        contact_displacements.emplace_back();
+        contact_bodies.push_back(involved);
         contact_velocities.emplace_back();
         contact_forces.emplace_back();
         for (const unsigned int b : involved)
           {
-            contact_displacements.back().push_back(&bodies[b]->displacement);
             contact_velocities.back().push_back(&half_step_velocity[b]);
             contact_forces.back().push_back(&forces[b]);
           }
+        // Only the contact damping reads the velocities.
+        if (interaction.contact->damping_ratio() > 0.)
+          for (const unsigned int b : involved)
+            bodies[b]->set_contact_reads_velocity(true);
       }
     surface_unknowns.resize(bodies.size());
     for (const auto &interaction : contacts)
@@ -145,11 +148,17 @@ namespace isoimpact
       if (!force_is_zero[b])
         forces[b] = 0.;
     std::fill(force_is_zero.begin(), force_is_zero.end(), false);
+    std::vector<ArrayView<const double>> displacements;
     for (unsigned int c = 0; c < contacts.size(); ++c)
-      results[c] = contacts[c].contact->evaluate(contact_displacements[c],
-                                                 contact_velocities[c],
-                                                 contact_forces[c],
-                                                 record_contact_points);
+      {
+        displacements.clear();
+        for (const unsigned int b : contact_bodies[c])
+          displacements.push_back(bodies[b]->contact_displacement());
+        results[c] = contacts[c].contact->evaluate(displacements,
+                                                   contact_velocities[c],
+                                                   contact_forces[c],
+                                                   record_contact_points);
+      }
   }
 
   template <int dim>

@@ -15,6 +15,7 @@
 #ifndef isoimpact_contact_h
 #define isoimpact_contact_h
 
+#include <deal.II/base/array_view.h>
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/tensor.h>
@@ -24,6 +25,7 @@
 
 #include <array>
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 #include <string>
 #include <utility>
@@ -210,9 +212,9 @@ namespace isoimpact
    */
   template <int dim>
   dealii::Point<dim>
-  current_position(const BoundarySegment<dim>        &segment,
-                   const SurfaceQuadraturePoint<dim> &point,
-                   const dealii::Vector<double>      &u);
+  current_position(const BoundarySegment<dim>           &segment,
+                   const SurfaceQuadraturePoint<dim>    &point,
+                   const dealii::ArrayView<const double> u);
 
   /**
    * Adds the point force `force` (traction times weight) at a point where
@@ -375,12 +377,27 @@ namespace isoimpact
     // order. The velocities (the half-step velocities of central
     // differences) are read only with contact damping and may then not be
     // empty. Returns energy, pressure, damping power and the resultant on
-    // body 0; with `record_points` also every active Gauss point.
+    // body 0; with `record_points` also every active Gauss point. The
+    // displacements are views of each body's values (on ranks that share
+    // the state, the window the passes write: doc/parallel.md, session 43).
     virtual ContactResult<dim>
-    evaluate(const std::vector<const dealii::Vector<double> *> &displacements,
-             const std::vector<const dealii::Vector<double> *> &velocities,
-             const std::vector<dealii::Vector<double> *>       &forces,
+    evaluate(const std::vector<dealii::ArrayView<const double>> &displacements,
+             const std::vector<const dealii::Vector<double> *>  &velocities,
+             const std::vector<dealii::Vector<double> *>        &forces,
              const bool record_points) const = 0;
+    // The same with the displacements as vectors ({&u_0, &u_1}).
+    ContactResult<dim>
+    evaluate(
+      const std::initializer_list<const dealii::Vector<double> *> displacements,
+      const std::vector<const dealii::Vector<double> *>          &velocities,
+      const std::vector<dealii::Vector<double> *>                &forces,
+      const bool record_points) const
+    {
+      std::vector<dealii::ArrayView<const double>> views;
+      for (const auto *u : displacements)
+        views.emplace_back(u->data(), u->size());
+      return evaluate(views, velocities, forces, record_points);
+    }
 
     // The lumped nodal masses of each body (model order), which the contact
     // damping needs; must be called before evaluate() if damping_ratio() >
@@ -489,10 +506,11 @@ namespace isoimpact
     unsigned int
     n_bodies() const override;
 
+    using ContactModel<dim>::evaluate;
     ContactResult<dim>
-    evaluate(const std::vector<const dealii::Vector<double> *> &displacements,
-             const std::vector<const dealii::Vector<double> *> &velocities,
-             const std::vector<dealii::Vector<double> *>       &forces,
+    evaluate(const std::vector<dealii::ArrayView<const double>> &displacements,
+             const std::vector<const dealii::Vector<double> *>  &velocities,
+             const std::vector<dealii::Vector<double> *>        &forces,
              const bool record_points) const override;
 
     // The damping of a point pair uses the reduced surface mass

@@ -3,6 +3,8 @@
 #ifndef isoimpact_elastic_body_h
 #define isoimpact_elastic_body_h
 
+#include <deal.II/base/array_view.h>
+
 #include <deal.II/lac/precondition.h>
 
 #include <isoimpact/discretization/unknown_exchange.h>
@@ -345,6 +347,16 @@ namespace isoimpact
     // them (after a move of the load balancing too).
     bool
     displacement_ghosts_received() const;
+    // The displacement the contact reads (its surfaces' rows are current
+    // after advance_displacement()): with the state shared between ranks,
+    // the present displacement where the passes wrote it; else the vector.
+    dealii::ArrayView<const double>
+    contact_displacement() const;
+    // Whether a contact reads this body's v^{n+1/2} (contact damping): with
+    // the state shared, advance_displacement() then copies the surfaces'
+    // rows this rank owns into the caller's vector. Off by default.
+    void
+    set_contact_reads_velocity(const bool reads);
     // Displacement, velocity and acceleration complete on every rank (for
     // the output; nothing on one process).
     void
@@ -473,9 +485,10 @@ namespace isoimpact
     // state in memory both ranks map, shared_state_arrays arrays of
     // n_dofs() values: two displacements (the present one and the next,
     // which the pass forms ahead), v^{n+1/2}, a and v. The passes read and
-    // write them in place; the vectors above and the caller's v^{n+1/2}
-    // receive the contact surfaces' rows at each step (surface_rows) and
-    // the rest where the ranks meet (gather_state(), a new run of steps).
+    // write them in place; the contact reads the present displacement
+    // there (contact_displacement()), the caller's v^{n+1/2} receives its
+    // own surface rows for the contact damping, and the vectors above the
+    // rest where the ranks meet (gather_state(), a new run of steps).
     // live: the arrays hold the state (filled by the first step's
     // advance_displacement()).
     static constexpr unsigned int shared_state_arrays =
@@ -483,9 +496,11 @@ namespace isoimpact
     double      *shared_state         = nullptr;
     bool         shared_state_live    = false;
     unsigned int present_displacement = 0;
-    // The contact surfaces' unknowns, and those this rank owns (whose
-    // v^{n+1/2} it copies: only the owner writes them), at set-up.
-    std::vector<dealii::types::global_dof_index> surface_rows, own_surface_rows;
+    // The contact surfaces' unknowns this rank owns (whose v^{n+1/2} it
+    // copies for the contact damping: only the owner writes them), at
+    // set-up.
+    std::vector<dealii::types::global_dof_index> own_surface_rows;
+    bool                                         contact_reads_velocity = false;
     double *
     shared_array(const unsigned int k) const;
     // This rank's rows of the vectors (its fixed rows, rank 0 the band's

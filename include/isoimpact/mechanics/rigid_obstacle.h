@@ -101,10 +101,11 @@ namespace isoimpact
     unsigned int
     n_bodies() const override;
 
+    using ContactModel<dim>::evaluate;
     ContactResult<dim>
-    evaluate(const std::vector<const dealii::Vector<double> *> &displacements,
-             const std::vector<const dealii::Vector<double> *> &velocities,
-             const std::vector<dealii::Vector<double> *>       &forces,
+    evaluate(const std::vector<dealii::ArrayView<const double>> &displacements,
+             const std::vector<const dealii::Vector<double> *>  &velocities,
+             const std::vector<dealii::Vector<double> *>        &forces,
              const bool record_points) const override;
 
     void

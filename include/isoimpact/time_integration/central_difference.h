@@ -176,10 +176,11 @@ namespace isoimpact
     // displacement.
     std::vector<std::vector<dealii::types::global_dof_index>> surface_unknowns;
     bool contacts_beside_displacement = false;
-    // Per contact interaction, built once: its bodies' displacements and
-    // force vectors, in the order the contact model expects.
-    std::vector<std::vector<const dealii::Vector<double> *>>
-      contact_displacements;
+    // Per contact interaction, built once: its bodies, their velocities
+    // and force vectors, in the order the contact model expects (the
+    // displacements are asked of the bodies at each evaluation:
+    // ElasticBody::contact_displacement()).
+    std::vector<std::vector<unsigned int>>                   contact_bodies;
     std::vector<std::vector<const dealii::Vector<double> *>> contact_velocities;
     std::vector<std::vector<dealii::Vector<double> *>>       contact_forces;
     // Work of the contact damping since t = 0: dt times its power at each
