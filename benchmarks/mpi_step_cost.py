@@ -53,6 +53,7 @@ their ratio is the speed-up of a step bound by memory traffic alone.
     over the ranks by the subtrees of the factor's elimination tree; the
     set-up factorises the mass once per process)."""
 import argparse
+import csv
 import json
 import os
 import re
@@ -179,14 +180,27 @@ def run(program, prm, work, ranks, threads, poll_memory=False):
     if len(rss) != ranks:
         print(f"peak memory of {len(rss)} of {ranks} processes from /usr/bin/time: "
               f"{peak_lines[-500:]}", file=sys.stderr)
-    return (summary["wall_time_parts_s"]["time_loop"] / summary["steps"],
+    # 2 ranks with load balancing: each rank's time per step outside its
+    # passes (the time loop less the sum of its passes' times in
+    # pass_times.csv, over the steps): its contact, its waits, the step's end.
+    loop, steps = summary["wall_time_parts_s"]["time_loop"], summary["steps"]
+    outside = []
+    pass_times = os.path.join(out, "pass_times.csv")
+    if ranks == 2 and os.path.exists(pass_times):
+        with open(pass_times) as f:
+            rows = list(csv.DictReader(f))
+        if rows and "rank_0_pass_s" in rows[0]:
+            outside = [(loop - sum(float(r[f"rank_{p}_pass_s"]) for r in rows)) / steps
+                       for p in range(2)]
+    return (loop / steps,
             max(rss) if rss else float("nan"),
             max(anonymous.values()) if anonymous else float("nan"), summary["unknowns"],
             summary.get("rank_splits", []),
-            [w / summary["steps"] for w in summary.get("mpi_wait_s_per_rank", [])])
+            [w / summary["steps"] for w in summary.get("mpi_wait_s_per_rank", [])],
+            outside)
 
 
-def describe_splits(splits, step, waits):
+def describe_splits(splits, step, waits, outside=()):
     """The load balancing of a run on 2 ranks: each body's final split
     (layers; its bounds; claimed balancing: the band's chunks and how many
     of them rank 0 computed in the last pass), its moves, the ranks' averaged pass times per
@@ -195,7 +209,8 @@ def describe_splits(splits, step, waits):
     twenty steps) against the run's time per step `step` (s): what is left
     is the rank's work outside the pass and its waiting. Then each rank's
     waits for the other's messages per step (`waits`, s; mpi_wait_s_per_rank
-    of summary.json over the steps)."""
+    of summary.json over the steps), and each rank's time per step outside
+    its passes (`outside`, s; see run())."""
     parts = []
     for split in splits:
         if not split.get("load_balancing"):
@@ -221,6 +236,9 @@ def describe_splits(splits, step, waits):
                      f" ms of {1e3 * step:.2f} ms")
     if parts and waits:
         parts.append("waits per step " + "/".join(f"{1e3 * w:.2f}" for w in waits) + " ms")
+    if parts and outside:
+        parts.append("outside the passes per step " +
+                     "/".join(f"{1e3 * t:.2f}" for t in outside) + " ms")
     return "; ".join(parts)
 
 
@@ -304,13 +322,14 @@ def main():
                 notes_of_level = []
                 for _ in range(args.repeats):
                     for name, ranks, threads, variant in configs:
-                        step, rss, _, unknowns, splits, waits = run(
+                        step, rss, _, unknowns, splits, waits, outside = run(
                             program, edited[variant], work, ranks, threads)
                         times[name].append(step)
                         memory[name] = rss
-                        if ranks == 2 and describe_splits(splits, step, waits):
+                        described = describe_splits(splits, step, waits, outside)
+                        if ranks == 2 and described:
                             notes_of_level.append(f"{name}, {1e3 * step:.2f} ms: "
-                                             f"{describe_splits(splits, step, waits)}")
+                                                  f"{described}")
                 # The anonymous memory in runs of its own (see above).
                 for name, ranks, threads, variant in configs:
                     anonymous[name] = run(program, edited[variant], work, ranks, threads,
