@@ -4,6 +4,8 @@
 #include <isoimpact/discretization/boundary_segments.h>
 #include <isoimpact/nurbs/knot_vector.h>
 
+#include <string>
+
 using namespace dealii;
 
 namespace isoimpact
@@ -39,13 +41,14 @@ namespace isoimpact
                          std::vector<double>        &values,
                          std::vector<double>        &derivatives)
   {
-    thread_local std::vector<double> b, db;
-    b.resize(segment.degree + 1);
-    db.resize(segment.degree + 1);
-    nurbs::KnotVector::bernstein_values(segment.degree,
-                                        eta,
-                                        b.data(),
-                                        db.data());
+    // The Bernstein values on the stack (this runs for every closest-point
+    // iteration of the contact: no allocation, no thread-local look-up).
+    constexpr unsigned int max_degree = 15;
+    AssertThrow(segment.degree <= max_degree,
+                ExcMessage("boundary segments of degree up to " +
+                           std::to_string(max_degree) + " are supported"));
+    double b[max_degree + 1], db[max_degree + 1];
+    nurbs::KnotVector::bernstein_values(segment.degree, eta, b, db);
     const unsigned int n_nodes = segment.node_positions.size();
     values.resize(n_nodes);
     derivatives.resize(n_nodes);

@@ -5,7 +5,6 @@
 #include <deal.II/base/thread_management.h>
 
 #include <isoimpact/mechanics/contact.h>
-#include <isoimpact/nurbs/knot_vector.h>
 
 #include <boost/geometry.hpp>
 #include <boost/geometry/index/rtree.hpp>
@@ -333,15 +332,6 @@ namespace isoimpact
         return point_positions[q];
       }
 
-      // The nodal functions of segment s and their derivatives at eta:
-      // evaluate_segment_basis()'s operations (the same bits) on the flat
-      // copies of the segments' data, without scratch of its own.
-      void
-      basis(const unsigned int   s,
-            const double         eta,
-            std::vector<double> &r,
-            std::vector<double> &dr) const;
-
       // Position and tangent of segment s at eta.
       void
       evaluate(const unsigned int   s,
@@ -376,10 +366,6 @@ namespace isoimpact
       // coefficient), from first_coefficient[s] on.
       std::vector<double>       hull_coefficients;
       std::vector<unsigned int> first_coefficient;
-      // The same without the weights (C_kj, node-major), and per node its
-      // weight w_k.
-      std::vector<double> basis_coefficients;
-      std::vector<double> node_weights;
       // Per Gauss point: its segment and nodal function values (from
       // first_shape_value[q] on, as many as its segment has nodes).
       std::vector<unsigned int> point_segments;
@@ -412,15 +398,10 @@ namespace isoimpact
               for (unsigned int d = 0; d < dim; ++d)
                 node_dofs.push_back(segment.node_dofs[k][d]);
               reference_nodes.push_back(segment.node_positions[k]);
-              node_weights.push_back(segment.node_weights[k]);
               for (unsigned int j = 0; j <= segment.degree; ++j)
-                {
-                  hull_coefficients.push_back(
-                    segment.node_weights[k] *
-                    segment.bernstein_coefficients(k, j));
-                  basis_coefficients.push_back(
-                    segment.bernstein_coefficients(k, j));
-                }
+                hull_coefficients.push_back(
+                  segment.node_weights[k] *
+                  segment.bernstein_coefficients(k, j));
             }
           first_node.push_back(reference_nodes.size());
           first_coefficient.push_back(hull_coefficients.size());
@@ -583,50 +564,6 @@ namespace isoimpact
 
     template <int dim>
     void
-    CurrentSurface<dim>::basis(const unsigned int   s,
-                               const double         eta,
-                               std::vector<double> &r,
-                               std::vector<double> &dr) const
-    {
-      const unsigned int     degree     = degrees[s];
-      constexpr unsigned int max_degree = 15;
-      if (degree > max_degree)
-        {
-          evaluate_segment_basis((*segments)[s], eta, r, dr);
-          return;
-        }
-      double b[max_degree + 1], db[max_degree + 1];
-      nurbs::KnotVector::bernstein_values(degree, eta, b, db);
-      const unsigned int first   = first_node[s];
-      const unsigned int n_nodes = first_node[s + 1] - first;
-      const double *coefficients = &basis_coefficients[first_coefficient[s]];
-      r.resize(n_nodes);
-      dr.resize(n_nodes);
-      double weight_sum = 0., weight_sum_derivative = 0.;
-      for (unsigned int k = 0; k < n_nodes; ++k)
-        {
-          const double *c = coefficients + k * (degree + 1);
-          double        n = 0., dn = 0.;
-          for (unsigned int j = 0; j <= degree; ++j)
-            {
-              n += c[j] * b[j];
-              dn += c[j] * db[j];
-            }
-          r[k]  = node_weights[first + k] * n;
-          dr[k] = node_weights[first + k] * dn;
-          weight_sum += r[k];
-          weight_sum_derivative += dr[k];
-        }
-      for (unsigned int k = 0; k < n_nodes; ++k)
-        {
-          dr[k] = (dr[k] * weight_sum - r[k] * weight_sum_derivative) /
-                  (weight_sum * weight_sum);
-          r[k] /= weight_sum;
-        }
-    }
-
-    template <int dim>
-    void
     CurrentSurface<dim>::evaluate(const unsigned int   s,
                                   const double         eta,
                                   std::vector<double> &r,
@@ -634,7 +571,7 @@ namespace isoimpact
                                   Point<dim>          &x,
                                   Tensor<1, dim>      &tangent) const
     {
-      basis(s, eta, r, dr);
+      evaluate_segment_basis((*segments)[s], eta, r, dr);
       x                               = Point<dim>();
       tangent                         = Tensor<1, dim>();
       const Point<dim> *segment_nodes = &nodes[first_node[s]];
@@ -1048,7 +985,7 @@ namespace isoimpact
               const auto &segment = surfaces[body].segments[point.segment];
               const auto &other_segment =
                 surfaces[other].segments[projection.segment];
-              current[other]->basis(projection.segment, projection.eta, r, dr);
+              evaluate_segment_basis(other_segment, projection.eta, r, dr);
               // c_pass = xi sqrt(2 eps_pass mu): the two passes together
               // damp the pair's spring 2 eps_pass critically at xi = 1.
               const double mu_own =
@@ -1123,7 +1060,7 @@ namespace isoimpact
           normal[d] = outcome.normal[d];
         const double gap      = outcome.gap;
         const double pressure = outcome.pressure;
-        current[other]->basis(other_index, outcome.eta, r, dr);
+        evaluate_segment_basis(other_segment, outcome.eta, r, dr);
         if (damped)
           result.damping_power += outcome.damping_power;
         const Tensor<1, dim> force = add_contact_traction(segment,
