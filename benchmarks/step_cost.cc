@@ -79,25 +79,31 @@ main(int argc, char **argv)
           products.emplace_back(body->n_dofs());
         }
       // Each contact model's view of the bodies (forces into scratch).
-      std::vector<std::vector<ArrayView<const double>>> contact_displacements;
-      std::vector<std::vector<const Vector<double> *>>  contact_velocities;
-      std::vector<std::vector<Vector<double> *>>        contact_forces;
+      // (The displacements' views are taken at each evaluation: a body's
+      // step may swap in a displacement formed in its pass.)
+      std::vector<std::vector<unsigned int>>           contact_bodies;
+      std::vector<std::vector<const Vector<double> *>> contact_velocities;
+      std::vector<std::vector<Vector<double> *>>       contact_forces;
       for (const auto &interaction : scene.interactions)
         {
           std::vector<unsigned int> body_indices = {interaction.first_body};
           if (interaction.contact->n_bodies() == 2)
             body_indices.push_back(interaction.second_body);
-          contact_displacements.emplace_back();
+          contact_bodies.push_back(body_indices);
           contact_velocities.emplace_back();
           contact_forces.emplace_back();
           for (const unsigned int b : body_indices)
             {
-              contact_displacements.back().push_back(
-                scene.bodies[b]->contact_displacement());
               contact_velocities.back().push_back(&scene.bodies[b]->velocity);
               contact_forces.back().push_back(&forces[b]);
             }
         }
+      const auto contact_views = [&](const unsigned int c) {
+        std::vector<ArrayView<const double>> views;
+        for (const unsigned int b : contact_bodies[c])
+          views.push_back(scene.bodies[b]->contact_displacement());
+        return views;
+      };
       const double infinity         = std::numeric_limits<double>::infinity();
       double       step_time        = infinity;
       double       matvec           = infinity;
@@ -128,11 +134,10 @@ main(int argc, char **argv)
               const double one_matvec = timer.wall_time();
               timer.restart();
               for (unsigned int c = 0; c < scene.interactions.size(); ++c)
-                scene.interactions[c].contact->evaluate(
-                  contact_displacements[c],
-                  contact_velocities[c],
-                  contact_forces[c],
-                  false);
+                scene.interactions[c].contact->evaluate(contact_views(c),
+                                                        contact_velocities[c],
+                                                        contact_forces[c],
+                                                        false);
               round_contacts += timer.wall_time();
               round_steps += one_step;
               round_matvecs += one_matvec;

@@ -639,44 +639,52 @@ namespace isoimpact
           half_step_velocity.add(dt, acceleration);
         return;
       }
-    if (row_exchange.is_distributed())
+    // The next displacement too, in the pass (advance_range()'s operations,
+    // the same bits): with the state shared into its second array, else into
+    // a vector of its own that advance_displacement() swaps in (one
+    // process) or takes the owned rows of (several ranks).
+    const bool distributed = row_exchange.is_distributed();
+    const auto start       = std::chrono::steady_clock::now();
+    double    *ahead       = nullptr;
+    if (distributed && row_exchange.shares_state())
       {
-        // Load balancing: the pass's time decides the next split.
-        const auto start = std::chrono::steady_clock::now();
-        double    *ahead = nullptr;
-        if (row_exchange.shares_state())
-          {
-            AssertThrow(shared_state_live && advance_displacement_ahead,
-                        ExcMessage("Load balancing = shared memory: the "
-                                   "step forms the next displacement "
-                                   "ahead, in the shared state"));
-            ahead = shared_array(1 - present_displacement);
-          }
-        else if (advance_displacement_ahead)
-          {
-            if (displacement_ahead.size() != displacement.size())
-              displacement_ahead.reinit(displacement.size());
-            ahead = displacement_ahead.data();
-          }
+        AssertThrow(shared_state_live && advance_displacement_ahead,
+                    ExcMessage("Load balancing = shared memory: the "
+                               "step forms the next displacement "
+                               "ahead, in the shared state"));
+        ahead = shared_array(1 - present_displacement);
+      }
+    else if (advance_displacement_ahead)
+      {
+        if (displacement_ahead.size() != displacement.size())
+          displacement_ahead.reinit(displacement.size());
+        ahead = displacement_ahead.data();
+      }
+    if (distributed)
+      {
         if (form_whole_step_state)
           fused_step<true, true>(f, half_step_velocity, dt, ahead);
         else
           fused_step<false, true>(f, half_step_velocity, dt, ahead);
-        if (ahead != nullptr)
-          {
-            displacement_ahead_step     = dt;
-            displacement_ahead_velocity = &half_step_velocity;
-          }
+      }
+    else if (form_whole_step_state)
+      fused_step<true, false>(f, half_step_velocity, dt, ahead);
+    else
+      fused_step<false, false>(f, half_step_velocity, dt, ahead);
+    if (ahead != nullptr)
+      {
+        displacement_ahead_step     = dt;
+        displacement_ahead_velocity = &half_step_velocity;
+      }
+    if (distributed)
+      {
         if (row_exchange.shares_state())
           row_exchange.end_shared_pass();
+        // Load balancing: the pass's time decides the next split.
         last_pass_seconds = std::chrono::duration<double>(
                               std::chrono::steady_clock::now() - start)
                               .count();
       }
-    else if (form_whole_step_state)
-      fused_step<true, false>(f, half_step_velocity, dt);
-    else
-      fused_step<false, false>(f, half_step_velocity, dt);
   }
 
   template <int dim>
@@ -1112,13 +1120,15 @@ namespace isoimpact
   {
     if (!row_exchange.is_distributed() || replicated_state)
       {
-        displacement.add(dt, half_step_velocity);
+        if (displacement_formed_ahead(half_step_velocity, dt))
+          displacement.swap(displacement_ahead);
+        else
+          displacement.add(dt, half_step_velocity);
+        displacement_ahead_velocity = nullptr;
         return;
       }
-    ghosts_received = false;
-    const bool formed_ahead =
-      displacement_ahead_velocity == &half_step_velocity &&
-      displacement_ahead_step == dt;
+    ghosts_received         = false;
+    const bool formed_ahead = displacement_formed_ahead(half_step_velocity, dt);
     if (shared_state_live)
       {
         if (formed_ahead)
@@ -1196,6 +1206,16 @@ namespace isoimpact
     row_exchange.apply_split({&displacement, &half_step_velocity});
     if (row_exchange.shares_state())
       fill_shared_state(half_step_velocity);
+  }
+
+  template <int dim>
+  bool
+  ElasticBody<dim>::displacement_formed_ahead(
+    const Vector<double> &half_step_velocity,
+    const double          dt) const
+  {
+    return displacement_ahead_velocity == &half_step_velocity &&
+           displacement_ahead_step == dt;
   }
 
   template <int dim>

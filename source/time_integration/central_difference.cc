@@ -276,7 +276,13 @@ namespace isoimpact
     // On several ranks each body advances its owned entries, and the ghosts
     // of all bodies come from their owners in one round of messages (no
     // messages on one process).
-    if (contacts_beside_displacement)
+    // One process whose lumped passes formed the next displacement: swapped
+    // in, nothing left to stream beside the contacts.
+    bool formed_ahead = true;
+    for (unsigned int b = 0; b < bodies.size(); ++b)
+      formed_ahead &=
+        bodies[b]->displacement_formed_ahead(half_step_velocity[b], dt);
+    if (contacts_beside_displacement && !formed_ahead)
       {
         // The contact surfaces' displacement first; then the contacts on
         // this thread while another advances the rest of the displacement

@@ -123,12 +123,13 @@ namespace isoimpact
      * 1e6 unknowns (doc/performance.md). Everything else has the same bits
      * either way.
      *
-     * advance_displacement_ahead (several ranks, the fused pass): the pass
-     * also forms u + dt v^{n+3/2} of the owned rows, the next step's
-     * displacement, while the row is at hand; the next
-     * advance_displacement() with the same dt and velocity vector takes it
-     * instead of a pass of its own (the same bits). The caller must not
-     * change the velocity in between. The rows other ranks read are formed
+     * advance_displacement_ahead (the fused pass): the pass also forms
+     * u + dt v^{n+3/2} of the owned rows, the next step's displacement,
+     * while the row is at hand; the next advance_displacement() with the
+     * same dt and velocity vector takes it instead of a pass of its own
+     * (the same bits; on one process a second vector, swapped in). The
+     * caller must not change the velocity in between. On several ranks the
+     * rows other ranks read are formed
      * first and sent at once (UnknownExchange::start_ghost_update()), and
      * that advance_displacement() receives theirs
      * (displacement_ghosts_received()).
@@ -305,6 +306,11 @@ namespace isoimpact
     void
     advance_displacement(dealii::Vector<double> &half_step_velocity,
                          const double            dt);
+    // Whether the last pass formed the next displacement for this velocity
+    // vector and dt (advance_displacement() then swaps it in).
+    bool
+    displacement_formed_ahead(const dealii::Vector<double> &half_step_velocity,
+                              const double                  dt) const;
     // One process: u_i += dt v_i for the unknowns in `rows` (ascending,
     // unique) alone, or with `all_but_rows` for all the others. The two
     // calls together are advance_displacement(), with its bits, and touch
