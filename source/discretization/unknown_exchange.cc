@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <thread>
@@ -138,20 +139,27 @@ namespace isoimpact
       passes = counters + 1;
       if (n_state_values > 0)
         {
-          ierr = MPI_Win_allocate_shared(rank == 0 ?
-                                           n_state_values * sizeof(double) :
-                                           0,
-                                         sizeof(double),
-                                         MPI_INFO_NULL,
-                                         node,
-                                         &state,
-                                         &state_window);
+          // 64 bytes more: the state starts at a cache line's boundary
+          // (Open MPI's segment may start 8 bytes past one; the pass's
+          // 16-byte loads then split cache lines, about 1 % of a rank's
+          // pass: benchmark_pass_traffic, doc/parallel.md, session 44).
+          ierr =
+            MPI_Win_allocate_shared(rank == 0 ?
+                                      n_state_values * sizeof(double) + 64 :
+                                      0,
+                                    sizeof(double),
+                                    MPI_INFO_NULL,
+                                    node,
+                                    &state,
+                                    &state_window);
           AssertThrowMPI(ierr);
           ierr = MPI_Win_shared_query(state_window, 0, &size, &unit, &state);
           AssertThrowMPI(ierr);
           AssertThrow(static_cast<std::size_t>(size) ==
-                        n_state_values * sizeof(double),
+                        n_state_values * sizeof(double) + 64,
                       ExcInternalError());
+          state = reinterpret_cast<double *>(
+            (reinterpret_cast<std::uintptr_t>(state) + 63) / 64 * 64);
           ierr = MPI_Win_lock_all(MPI_MODE_NOCHECK, state_window);
           AssertThrowMPI(ierr);
         }

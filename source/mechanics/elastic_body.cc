@@ -1362,7 +1362,7 @@ namespace isoimpact
   void
   ElasticBody<dim>::open_claims()
   {
-    row_exchange.open_claims(shared_state_arrays * n_dofs());
+    row_exchange.open_claims(shared_state_arrays * shared_array_stride());
     if (row_exchange.shares_state())
       shared_state = row_exchange.shared_values();
   }
@@ -1371,7 +1371,15 @@ namespace isoimpact
   double *
   ElasticBody<dim>::shared_array(const unsigned int k) const
   {
-    return shared_state + std::size_t(k) * n_dofs();
+    return shared_state + std::size_t(k) * shared_array_stride();
+  }
+
+  template <int dim>
+  std::size_t
+  ElasticBody<dim>::shared_array_stride() const
+  {
+    // Each array at a cache line's boundary (the window's start is one).
+    return (std::size_t(n_dofs()) + 7) / 8 * 8;
   }
 
   template <int dim>

@@ -509,6 +509,10 @@ namespace isoimpact
     bool                                         contact_reads_velocity = false;
     double *
     shared_array(const unsigned int k) const;
+    // The distance between two arrays of the shared state (n_dofs() rounded
+    // up to whole cache lines).
+    std::size_t
+    shared_array_stride() const;
     // This rank's rows of the vectors (its fixed rows, rank 0 the band's
     // too) into the arrays; then the ranks meet: the arrays are live.
     void
