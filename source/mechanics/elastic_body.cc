@@ -589,22 +589,34 @@ namespace isoimpact
                                          Vector<double>       &f,
                                          Vector<double>       &a) const
   {
+    start_acceleration(u);
+    complete_acceleration(f, a);
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::start_acceleration(const Vector<double> &u) const
+  {
     step_energies.reset();
     step_energies_are_partial = false;
+    stiffness_times_u.reinit(u.size(), true);
+    multiply_by_stiffness(stiffness_times_u, u);
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::complete_acceleration(Vector<double> &f,
+                                          Vector<double> &a) const
+  {
+    // Several ranks: each holds its rows of K; the whole product (the
+    // initial acceleration) from their owners.
+    row_exchange.gather(stiffness_times_u);
     if (fused_lumped_step)
       {
-        stiffness_times_u.reinit(u.size(), true);
-        multiply_by_stiffness(stiffness_times_u, u);
-        // Several ranks: each holds its rows of K; the whole product (the
-        // initial acceleration) from their owners.
-        row_exchange.gather(stiffness_times_u);
         lumped_step_pass(f, a);
         return;
       }
     body_constraints.condense(f);
-    stiffness_times_u.reinit(u.size(), true);
-    multiply_by_stiffness(stiffness_times_u, u);
-    row_exchange.gather(stiffness_times_u); // several ranks: see above
     f -= stiffness_times_u;
     body_constraints.set_zero(f);
     solve_mass(a, f);

@@ -243,10 +243,15 @@ namespace isoimpact
           force_is_zero[b] = bodies[b]->step_zeroes_force();
       }
     else
-      for (unsigned int b = 0; b < bodies.size(); ++b)
-        bodies[b]->compute_acceleration(bodies[b]->displacement,
-                                        forces[b],
-                                        bodies[b]->acceleration);
+      {
+        // Every body's product before any body's rest: on several ranks
+        // each multiplies its own rows at once, rather than wait for the
+        // other's product of one body before its own of the next.
+        for (unsigned int b = 0; b < bodies.size(); ++b)
+          bodies[b]->start_acceleration(bodies[b]->displacement);
+        for (unsigned int b = 0; b < bodies.size(); ++b)
+          bodies[b]->complete_acceleration(forces[b], bodies[b]->acceleration);
+      }
   }
 
   template <int dim>

@@ -110,6 +110,17 @@ namespace isoimpact
     compute_acceleration(const dealii::Vector<double> &u,
                          dealii::Vector<double>       &f,
                          dealii::Vector<double>       &a) const;
+    /**
+     * compute_acceleration() in two halves: K u of this rank's rows, then
+     * the rest (the product's other rows from their owners, the mass). With
+     * bodies whole on ranks, every body's first half before any second
+     * half lets the ranks multiply side by side (the second halves meet).
+     */
+    void
+    start_acceleration(const dealii::Vector<double> &u) const;
+    void
+    complete_acceleration(dealii::Vector<double> &f,
+                          dealii::Vector<double> &a) const;
 
     /**
      * One step of central differences after the forces: compute_acceleration
