@@ -4,8 +4,10 @@
 1e6 unknowns (the Hertz benchmark, prm/hertz_fea_hrz.prm and
 prm/hertz_iga_hrz.prm, at Global refinements 5 and 7, resp. 6 and 8; the
 cylinders touch from t = 0, so contact is on). The step is the program's:
-time_loop of summary.json over its steps (no ParaView output, history every
-100 steps). Each configuration runs `--repeats` times, interleaved with the
+time_loop of summary.json less its initial_acceleration_s (the acceleration
+at t = 0, once per run), over its steps (no ParaView output, history every
+100 steps); the table also gives the initial acceleration and the step with
+its share of a run of `--steps` steps. Each configuration runs `--repeats` times, interleaved with the
 others; the table gives the median ms per step, the speed-ups against
 1 rank x 1 thread (the ratio of the medians, and the median of the ratios
 within each round, which a drift of the machine's speed between rounds moves
@@ -45,7 +47,11 @@ usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--s
     on ranks, without messages: what sharing each step's rows as the threads
     come gains on this machine).
 After the table, each configuration's step over that of 2 threads, run by
-run (the same round).
+run (the same round), with the ratios' median and, from 5 rounds on, a
+distribution-free interval of at least 90 % confidence for it (the sign
+test's order statistics): the machine's speed drifts between runs by more
+than the configurations differ, and the interval says what the rounds can
+tell apart.
 The table is preceded by the machine's memory bandwidth with 1 and 2 ranks
 (benchmarks/memory_bandwidth.cc; build target benchmark_memory_bandwidth):
 their ratio is the speed-up of a step bound by memory traffic alone.
@@ -55,6 +61,7 @@ their ratio is the speed-up of a step bound by memory traffic alone.
 import argparse
 import csv
 import json
+import math
 import os
 import re
 import shutil
@@ -180,10 +187,13 @@ def run(program, prm, work, ranks, threads, poll_memory=False):
     if len(rss) != ranks:
         print(f"peak memory of {len(rss)} of {ranks} processes from /usr/bin/time: "
               f"{peak_lines[-500:]}", file=sys.stderr)
+    # The steps alone: the time loop less the initial acceleration (once
+    # per run; its share of a short run's loop is not a step's cost).
     # 2 ranks with load balancing: each rank's time per step outside its
-    # passes (the time loop less the sum of its passes' times in
+    # passes (the steps less the sum of its passes' times in
     # pass_times.csv, over the steps): its contact, its waits, the step's end.
-    loop, steps = summary["wall_time_parts_s"]["time_loop"], summary["steps"]
+    initial = summary["initial_acceleration_s"]
+    loop, steps = summary["wall_time_parts_s"]["time_loop"] - initial, summary["steps"]
     outside = []
     pass_times = os.path.join(out, "pass_times.csv")
     if ranks == 2 and os.path.exists(pass_times):
@@ -197,7 +207,7 @@ def run(program, prm, work, ranks, threads, poll_memory=False):
             max(anonymous.values()) if anonymous else float("nan"), summary["unknowns"],
             summary.get("rank_splits", []),
             [w / summary["steps"] for w in summary.get("mpi_wait_s_per_rank", [])],
-            outside)
+            outside, initial)
 
 
 def describe_splits(splits, step, waits, outside=()):
@@ -271,6 +281,35 @@ def print_bandwidth_ratio(build, repeats):
               flush=True)
 
 
+def median_interval(values, confidence=0.9):
+    """A distribution-free interval of the median of `values` (the sign
+    test's): the order statistics x_(k) and x_(n+1-k), with the largest k
+    such that P(B < k) <= (1 - confidence) / 2 for B ~ Binomial(n, 1/2).
+    Returns (low, high, its coverage 1 - 2 P(B < k)), or None when n is too
+    small for the confidence (n < 5 at 90 %)."""
+    x, n = sorted(values), len(values)
+    below = 0.  # P(B < k)
+    k = 0
+    while k < n and below + math.comb(n, k) / 2 ** n <= (1 - confidence) / 2:
+        below += math.comb(n, k) / 2 ** n
+        k += 1
+    if k == 0:
+        return None
+    return x[k - 1], x[n - k], 1 - 2 * below
+
+
+def describe_ratios(ratios):
+    """The run-by-run ratios' median, its 90 % interval and how many are at
+    most 1."""
+    text = (f"median {statistics.median(ratios):.3f}; "
+            f"no slower in {sum(r <= 1 for r in ratios)} of {len(ratios)}")
+    interval = median_interval(ratios)
+    if interval:
+        text += (f"; the median within [{interval[0]:.3f}, {interval[1]:.3f}] "
+                 f"at {100 * interval[2]:.1f} % confidence (sign test)")
+    return text
+
+
 def main():
     parser = argparse.ArgumentParser()
     level_choice = parser.add_mutually_exclusive_group()
@@ -301,9 +340,11 @@ def main():
     print_bandwidth_ratio(args.build, max(args.repeats, 3))
     print()
     print("| method | level | unknowns | configuration | step [ms] (median) | all runs [ms] "
-          "| speed-up vs 1 x 1 | speed-up (paired median) | peak memory per process [MB] | memory vs 1 x 1 "
+          "| speed-up vs 1 x 1 | speed-up (paired median) | initial acceleration [ms] (median) "
+          "| step with the initial acceleration's share [ms] (median) "
+          "| peak memory per process [MB] | memory vs 1 x 1 "
           "| peak anonymous memory per process [MB] | anonymous vs 1 x 1 |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     notes = []
     with tempfile.TemporaryDirectory() as work:
         for method, (prm, levels) in {**CASES, **NAMED_ONLY}.items():
@@ -317,14 +358,16 @@ def main():
                                                  variant)
                           for _, _, _, variant in configs}
                 times = {name: [] for name, _, _, _ in configs}
+                initials = {name: [] for name, _, _, _ in configs}
                 memory, anonymous = {}, {}
                 unknowns = 0
                 notes_of_level = []
                 for _ in range(args.repeats):
                     for name, ranks, threads, variant in configs:
-                        step, rss, _, unknowns, splits, waits, outside = run(
+                        step, rss, _, unknowns, splits, waits, outside, initial = run(
                             program, edited[variant], work, ranks, threads)
                         times[name].append(step)
+                        initials[name].append(initial)
                         memory[name] = rss
                         described = describe_splits(splits, step, waits, outside)
                         if ranks == 2 and described:
@@ -341,7 +384,10 @@ def main():
                         b / t for b, t in zip(times[CONFIGS[0][0]], times[name]))
                     print(f"| {method} {args.mass} | {level} | {unknowns} | {name} | {1e3 * median:.2f} | "
                           f"{', '.join(f'{1e3 * t:.2f}' for t in times[name])} | "
-                          f"{base / median:.2f} | {paired:.2f} | {memory[name] / 1e6:.0f} | "
+                          f"{base / median:.2f} | {paired:.2f} | "
+                          f"{1e3 * statistics.median(initials[name]):.1f} | "
+                          f"{1e3 * statistics.median(t + i / args.steps for t, i in zip(times[name], initials[name])):.2f} | "
+                          f"{memory[name] / 1e6:.0f} | "
                           f"{memory[name] / memory[CONFIGS[0][0]]:.2f} | "
                           f"{anonymous[name] / 1e6:.0f} | "
                           f"{anonymous[name] / anonymous[CONFIGS[0][0]]:.2f} |", flush=True)
@@ -351,9 +397,7 @@ def main():
                 notes_of_level.extend(
                     f"{name} / {threads}, run by run: "
                     + ", ".join(f"{t / u:.3f}" for t, u in zip(times[name], times[threads]))
-                    + f" (median {statistics.median(t / u for t, u in zip(times[name], times[threads])):.3f}; "
-                    f"no slower in {sum(t <= u for t, u in zip(times[name], times[threads]))} "
-                    f"of {len(times[name])})"
+                    + f" ({describe_ratios([t / u for t, u in zip(times[name], times[threads])])})"
                     for name, _, _, _ in configs if name not in (CONFIGS[0][0], threads))
                 # (After the table: the load balancing of each 2-rank run.)
                 notes.extend(f"- {method} level {level}, {line}" for line in notes_of_level)

@@ -261,7 +261,10 @@ namespace isoimpact
                                               {"time_loop", facts.time_loop_wall_time},
                                               {"output", facts.output_wall_time},
                                               {"total", facts.total_wall_time}};
-    summary["mass_redistribution"]         = parameters.mass_redistribution;
+    // Part of the time loop, once per run (its time per step is the loop's
+    // less this, over the steps).
+    summary["initial_acceleration_s"] = facts.initial_acceleration_wall_time;
+    summary["mass_redistribution"]    = parameters.mass_redistribution;
     if (facts.boundary_solve)
       {
         const BoundarySolveWork &w     = *facts.boundary_solve;

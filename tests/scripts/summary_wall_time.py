@@ -1,8 +1,9 @@
 """summary.json's wall_time_parts_s: the set-up, the time loop (the steps
 alone) and the output (files, history with the energies) are positive and
 add up to the total (the whole run but the reading of the parameters and
-the writing of summary.json) within 5 %; the time loop and output of the
-run together are wall_time_s within 5 %.
+the writing of summary.json) within 5 %; the initial acceleration
+(initial_acceleration_s) is a positive part of the time loop; the time loop
+and output of the run together are wall_time_s within 5 %.
 
 usage: summary_wall_time.py OUTPUT_DIR (the fixture run's)"""
 import json
@@ -21,6 +22,9 @@ print(f"     time loop {100 * parts['time_loop'] / parts['total']:.1f} %, output
       f"{100 * parts['output'] / parts['total']:.1f} %, set-up {100 * parts['setup'] / parts['total']:.1f} %")
 check_close("setup + time_loop + output [s] against total", parts["setup"] + parts["time_loop"] + parts["output"],
             parts["total"], 0.05)
+initial = summary["initial_acceleration_s"]
+check_true(f"initial_acceleration_s = {initial:.4g} s in (0, time_loop]",
+           0. < initial <= parts["time_loop"])
 check_close("time_loop + output [s] against wall_time_s", parts["time_loop"] + parts["output"],
             summary["wall_time_s"], 0.05)
 report()

@@ -77,11 +77,14 @@ namespace isoimpact
     double         wall_time = 0.; // s, time loop and output
     // Wall times (s) of the set-up (scene, matrices, time step), the time
     // steps alone, the output (files, history, energies) and the whole run.
-    double      setup_wall_time     = 0.;
-    double      time_loop_wall_time = 0.;
-    double      output_wall_time    = 0.;
-    double      total_wall_time     = 0.;
-    std::string status              = "completed";
+    double setup_wall_time     = 0.;
+    double time_loop_wall_time = 0.;
+    double output_wall_time    = 0.;
+    double total_wall_time     = 0.;
+    // The initial acceleration (t = 0, before the first step), part of the
+    // time loop's wall time: once per run, not per step.
+    double      initial_acceleration_wall_time = 0.;
+    std::string status                         = "completed";
     std::string stop_reason;
     // Contact/Mass redistribution: the work of the quasi-static boundary.
     std::optional<BoundarySolveWork> boundary_solve;
