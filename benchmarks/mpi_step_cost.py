@@ -7,8 +7,8 @@ cylinders touch from t = 0, so contact is on). The step is the program's:
 time_loop of summary.json less its initial_acceleration_s (the acceleration
 at t = 0, once per run), over its steps (no ParaView output, history every
 100 steps); the table also gives the initial acceleration and the step with
-its share of a run of `--steps` steps. Each configuration runs `--repeats` times, interleaved with the
-others; the table gives the median ms per step, the speed-ups against
+its share of a run of `--steps` steps. Each configuration runs `--repeats`
+times, interleaved with the others; the table gives the median ms per step, the speed-ups against
 1 rank x 1 thread (the ratio of the medians, and the median of the ratios
 within each round, which a drift of the machine's speed between rounds moves
 least), and the memory per process:
