@@ -1,6 +1,6 @@
-"""summary.json's wall_time_parts_s: the set-up, the time loop (the steps
-alone) and the output (files, history with the energies) are positive and
-add up to the total (the whole run but the reading of the parameters and
+"""summary.json's wall_time_parts_s: the set-up, the time loop (the initial
+acceleration and the steps) and the output (files, history with the
+energies) are positive and add up to the total (the whole run but the reading of the parameters and
 the writing of summary.json) within 5 %; the initial acceleration
 (initial_acceleration_s) is a positive part of the time loop; the time loop
 and output of the run together are wall_time_s within 5 %.

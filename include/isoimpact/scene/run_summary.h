@@ -76,7 +76,8 @@ namespace isoimpact
     unsigned int   n_steps   = 0;
     double         wall_time = 0.; // s, time loop and output
     // Wall times (s) of the set-up (scene, matrices, time step), the time
-    // steps alone, the output (files, history, energies) and the whole run.
+    // loop (the initial acceleration and the steps), the output (files,
+    // history, energies) and the whole run.
     double setup_wall_time     = 0.;
     double time_loop_wall_time = 0.;
     double output_wall_time    = 0.;
