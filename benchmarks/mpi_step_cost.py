@@ -46,12 +46,17 @@ usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--s
     body's pass on one thread, the static split of 2 ranks with bodies whole
     on ranks, without messages: what sharing each step's rows as the threads
     come gains on this machine).
+The step's time in the bodies' passes (passes_s_per_rank of summary.json,
+the ranks' mean, over the steps) and the rest of the step, outside the
+passes (the contacts, the waits for the other rank, the step's end), have
+columns of their own.
 After the table, each configuration's step over that of 2 threads, run by
 run (the same round), with the ratios' median and, from 5 rounds on, a
 distribution-free interval of at least 90 % confidence for it (the sign
 test's order statistics): the machine's speed drifts between runs by more
 than the configurations differ, and the interval says what the rounds can
-tell apart.
+tell apart. The same for the passes alone, and the difference of the time
+outside them: where the steps differ.
 The table is preceded by the machine's memory bandwidth with 1 and 2 ranks
 (benchmarks/memory_bandwidth.cc; build target benchmark_memory_bandwidth):
 their ratio is the speed-up of a step bound by memory traffic alone.
@@ -202,12 +207,16 @@ def run(program, prm, work, ranks, threads, poll_memory=False):
         if rows and "rank_0_pass_s" in rows[0]:
             outside = [(loop - sum(float(r[f"rank_{p}_pass_s"]) for r in rows)) / steps
                        for p in range(2)]
+    # Every configuration: the time per step in the bodies' passes
+    # (passes_s_per_rank, the ranks' mean), the rest of the step outside
+    # them (the contacts, the waits, the step's end).
+    passes = statistics.mean(summary["passes_s_per_rank"]) / steps
     return (loop / steps,
             max(rss) if rss else float("nan"),
             max(anonymous.values()) if anonymous else float("nan"), summary["unknowns"],
             summary.get("rank_splits", []),
             [w / summary["steps"] for w in summary.get("mpi_wait_s_per_rank", [])],
-            outside, initial)
+            outside, initial, passes)
 
 
 def describe_splits(splits, step, waits, outside=()):
@@ -342,9 +351,10 @@ def main():
     print("| method | level | unknowns | configuration | step [ms] (median) | all runs [ms] "
           "| speed-up vs 1 x 1 | speed-up (paired median) | initial acceleration [ms] (median) "
           "| step with the initial acceleration's share [ms] (median) "
+          "| passes per step [ms] (median) | outside the passes per step [ms] (median) "
           "| peak memory per process [MB] | memory vs 1 x 1 "
           "| peak anonymous memory per process [MB] | anonymous vs 1 x 1 |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     notes = []
     with tempfile.TemporaryDirectory() as work:
         for method, (prm, levels) in {**CASES, **NAMED_ONLY}.items():
@@ -359,14 +369,16 @@ def main():
                           for _, _, _, variant in configs}
                 times = {name: [] for name, _, _, _ in configs}
                 initials = {name: [] for name, _, _, _ in configs}
+                passes = {name: [] for name, _, _, _ in configs}
                 memory, anonymous = {}, {}
                 unknowns = 0
                 notes_of_level = []
                 for _ in range(args.repeats):
                     for name, ranks, threads, variant in configs:
-                        step, rss, _, unknowns, splits, waits, outside, initial = run(
+                        step, rss, _, unknowns, splits, waits, outside, initial, passed = run(
                             program, edited[variant], work, ranks, threads)
                         times[name].append(step)
+                        passes[name].append(passed)
                         initials[name].append(initial)
                         memory[name] = rss
                         described = describe_splits(splits, step, waits, outside)
@@ -387,6 +399,8 @@ def main():
                           f"{base / median:.2f} | {paired:.2f} | "
                           f"{1e3 * statistics.median(initials[name]):.1f} | "
                           f"{1e3 * statistics.median(t + i / args.steps for t, i in zip(times[name], initials[name])):.2f} | "
+                          f"{1e3 * statistics.median(passes[name]):.2f} | "
+                          f"{1e3 * statistics.median(t - p for t, p in zip(times[name], passes[name])):.3f} | "
                           f"{memory[name] / 1e6:.0f} | "
                           f"{memory[name] / memory[CONFIGS[0][0]]:.2f} | "
                           f"{anonymous[name] / 1e6:.0f} | "
@@ -399,6 +413,26 @@ def main():
                     + ", ".join(f"{t / u:.3f}" for t, u in zip(times[name], times[threads]))
                     + f" ({describe_ratios([t / u for t, u in zip(times[name], times[threads])])})"
                     for name, _, _, _ in configs if name not in (CONFIGS[0][0], threads))
+                # The same for the passes alone, and the difference of the
+                # time outside them (ms per step): where the steps differ.
+                for name, _, _, _ in configs:
+                    if name in (CONFIGS[0][0], threads):
+                        continue
+                    ratios = [p / q for p, q in zip(passes[name], passes[threads])]
+                    notes_of_level.append(
+                        f"{name} / {threads}, the passes alone, run by run: "
+                        + ", ".join(f"{r:.3f}" for r in ratios)
+                        + f" ({describe_ratios(ratios)})")
+                    differences = [1e3 * ((t - p) - (u - q)) for t, p, u, q in
+                                   zip(times[name], passes[name], times[threads],
+                                       passes[threads])]
+                    interval = median_interval(differences)
+                    notes_of_level.append(
+                        f"{name} - {threads}, outside the passes [ms per step], run by run: "
+                        + ", ".join(f"{d:.3f}" for d in differences)
+                        + f" (median {statistics.median(differences):.3f}"
+                        + (f", within [{interval[0]:.3f}, {interval[1]:.3f}] at "
+                           f"{100 * interval[2]:.1f} %" if interval else "") + ")")
                 # (After the table: the load balancing of each 2-rank run.)
                 notes.extend(f"- {method} level {level}, {line}" for line in notes_of_level)
     if notes:

@@ -622,6 +622,10 @@ namespace isoimpact
       facts.seconds_waiting_per_rank =
         Utilities::MPI::gather(MPI_COMM_WORLD,
                                UnknownExchange::seconds_waiting());
+    facts.seconds_in_passes_per_rank =
+      n_ranks > 1 ?
+        Utilities::MPI::gather(MPI_COMM_WORLD, integrator->time_in_passes()) :
+        std::vector<double>{integrator->time_in_passes()};
     facts.time_step                = time_step;
     facts.stable                   = stable;
     facts.ranks_meet_at_every_step = integrator->ranks_meet_at_every_step();

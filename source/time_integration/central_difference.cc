@@ -5,6 +5,7 @@
 #include <isoimpact/time_integration/central_difference.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numeric>
 
@@ -227,6 +228,7 @@ namespace isoimpact
         // of its elimination tree (one thread), the other threads take the
         // other body's work. Each body's step has the same bits either
         // way. On several ranks one after the other (their messages).
+        const auto start = std::chrono::steady_clock::now();
         if (bodies_step_side_by_side)
           {
             Threads::TaskGroup<void> tasks;
@@ -239,6 +241,9 @@ namespace isoimpact
         else
           for (const unsigned int b : step_order)
             step_body(b);
+        seconds_in_passes += std::chrono::duration<double>(
+                               std::chrono::steady_clock::now() - start)
+                               .count();
         for (unsigned int b = 0; b < bodies.size(); ++b)
           force_is_zero[b] = bodies[b]->step_zeroes_force();
       }
@@ -475,6 +480,13 @@ namespace isoimpact
   CentralDifference<dim>::contact_results() const
   {
     return results;
+  }
+
+  template <int dim>
+  double
+  CentralDifference<dim>::time_in_passes() const
+  {
+    return seconds_in_passes;
   }
 
   template <int dim>

@@ -2,7 +2,9 @@
 acceleration and the steps) and the output (files, history with the
 energies) are positive and add up to the total (the whole run but the reading of the parameters and
 the writing of summary.json) within 5 %; the initial acceleration
-(initial_acceleration_s) is a positive part of the time loop; the time loop
+(initial_acceleration_s) is a positive part of the time loop, and so is the
+time in the bodies' passes (passes_s_per_rank, one process: one entry),
+which the initial acceleration is not part of; the time loop
 and output of the run together are wall_time_s within 5 %.
 
 usage: summary_wall_time.py OUTPUT_DIR (the fixture run's)"""
@@ -25,6 +27,13 @@ check_close("setup + time_loop + output [s] against total", parts["setup"] + par
 initial = summary["initial_acceleration_s"]
 check_true(f"initial_acceleration_s = {initial:.4g} s in (0, time_loop]",
            0. < initial <= parts["time_loop"])
+passes = summary["passes_s_per_rank"]
+check_true(f"passes_s_per_rank = {passes} has one entry per rank ({summary['mpi_ranks']})",
+           len(passes) == summary["mpi_ranks"])
+for p in passes:
+    check_true(f"passes {p:.4g} s in (0, time_loop - initial_acceleration_s = "
+               f"{parts['time_loop'] - initial:.4g} s]",
+               0. < p <= parts["time_loop"] - initial)
 check_close("time_loop + output [s] against wall_time_s", parts["time_loop"] + parts["output"],
             summary["wall_time_s"], 0.05)
 report()

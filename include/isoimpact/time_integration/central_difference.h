@@ -130,6 +130,14 @@ namespace isoimpact
     const std::vector<ContactResult<dim>> &
     contact_results() const;
 
+    // Wall time (s) this process spent in the bodies' steps (their passes:
+    // acceleration, velocities, next displacement; on several ranks the
+    // claims of the band too) since construction: the time loop's share
+    // that is not the contacts, the waits or the step's end. Not the
+    // initial acceleration.
+    double
+    time_in_passes() const;
+
     // With mass redistribution (a body with massless unknowns): the
     // quasi-static boundary solve and its work; else nullptr.
     const QuasiStaticBoundary<dim> *
@@ -190,6 +198,8 @@ namespace isoimpact
     // per body the penalty masses of the last evaluation.
     double bipenalty_switching_work = 0.;
     bool   bipenalty                = false;
+    // time_in_passes().
+    double seconds_in_passes = 0.;
     // The vectors whose ghosts each step updates (several MPI ranks): the
     // displacements, and the half-step velocities if a contact is damped
     // (the damping reads them).
