@@ -10,7 +10,11 @@
 // - shifted: the arrays at 8 bytes past a 64-byte boundary, where Open MPI's
 //   shared-memory window placed the state (doc/parallel.md, session 44);
 // - no force: without the force's read and zeroing (as if the pass knew
-//   the rows without contact forces).
+//   the rows without contact forces);
+// - window: u, the next displacement and v^{n+1/2} in a window of MPI-3
+//   shared memory, as `Load balancing = shared memory` places a body's
+//   state (one window per body, rank 0 allocating it, every rank mapping
+//   and touching it, the arrays at cache lines), the rest on the heap.
 // Printed per rank: the median time of each variant and the median over
 // the rounds of its ratio to `program` (the figure a drift of the machine
 // moves least). The arrays hold synthetic values; the bits are not the
@@ -24,6 +28,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdlib>
 #include <functional>
 #include <iostream>
@@ -44,6 +49,7 @@ namespace
     stream,
     shifted,
     no_force,
+    window,
     n_variants
   };
 
@@ -128,6 +134,44 @@ main(int argc, char **argv)
       const auto array = [&](const unsigned int k, const bool shift) {
         return memory + (shift ? 6 + k : k) * stride + (shift ? 1 : 0);
       };
+      // One window per body on the node's ranks, rank 0 allocating.
+      MPI_Comm node;
+      MPI_Comm_split_type(MPI_COMM_WORLD,
+                          MPI_COMM_TYPE_SHARED,
+                          0,
+                          MPI_INFO_NULL,
+                          &node);
+      const unsigned int   node_rank = Utilities::MPI::this_mpi_process(node);
+      std::vector<MPI_Win> windows(scene.bodies.size());
+      double              *window_arrays = nullptr;
+      for (unsigned int b = 0; b < scene.bodies.size(); ++b)
+        {
+          const std::size_t bytes =
+            node_rank == 0 ? (3 * stride + 8) * sizeof(double) : 0;
+          double *base = nullptr;
+          MPI_Win_allocate_shared(bytes,
+                                  sizeof(double),
+                                  MPI_INFO_NULL,
+                                  node,
+                                  &base,
+                                  &windows[b]);
+          MPI_Aint size;
+          int      unit;
+          MPI_Win_shared_query(windows[b], 0, &size, &unit, &base);
+          double *aligned = reinterpret_cast<double *>(
+            (reinterpret_cast<std::uintptr_t>(base) + 63) / 64 * 64);
+          // Every rank touches every page of every body's window.
+          for (std::size_t i = 0; i < 3 * stride; i += 512)
+            aligned[i] = aligned[i] + 0.;
+          MPI_Barrier(node);
+          if (b == body)
+            window_arrays = aligned;
+        }
+      // u, the next displacement, v^{n+1/2}: the heap's values.
+      for (const unsigned int k : {0u, 1u, 5u})
+        std::copy(array(k, false),
+                  array(k, false) + n,
+                  window_arrays + (k == 5 ? 2 : k) * stride);
       std::vector<std::vector<double>> times(n_variants), ratios(n_variants);
       double                           check = 0.;
       for (unsigned int round = 0; round < rounds; ++round)
@@ -137,6 +181,13 @@ main(int argc, char **argv)
             {
               const bool shift = (v == shifted);
               double    *u = array(0, shift), *u_ahead = array(1, shift);
+              double    *vh = array(5, shift);
+              if (v == window)
+                {
+                  u       = window_arrays;
+                  u_ahead = window_arrays + stride;
+                  vh      = window_arrays + 2 * stride;
+                }
               MPI_Barrier(MPI_COMM_WORLD);
               const auto   start = std::chrono::steady_clock::now();
               const auto   args  = std::make_tuple(std::cref(rows),
@@ -145,12 +196,13 @@ main(int argc, char **argv)
                                                 array(2, shift),
                                                 array(3, shift),
                                                 array(4, shift),
-                                                array(5, shift),
+                                                vh,
                                                 1e-6);
               const double sum =
                 (v == program) ? std::apply(pass<program>, args) :
                 (v == stream)  ? std::apply(pass<stream>, args) :
                 (v == shifted) ? std::apply(pass<shifted>, args) :
+                (v == window)  ? std::apply(pass<window>, args) :
                                  std::apply(pass<no_force>, args);
               round_times[v] = std::chrono::duration<double>(
                                  std::chrono::steady_clock::now() - start)
@@ -170,7 +222,8 @@ main(int argc, char **argv)
       const char *names[n_variants] = {"program",
                                        "stream",
                                        "shifted",
-                                       "no force"};
+                                       "no force",
+                                       "window"};
       for (unsigned int r = 0;
            r < Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
            ++r)
@@ -190,6 +243,9 @@ main(int argc, char **argv)
           std::cout << std::endl;
         }
       std::free(memory);
+      for (auto &w : windows)
+        MPI_Win_free(&w);
+      MPI_Comm_free(&node);
     }
   catch (const std::exception &error)
     {
