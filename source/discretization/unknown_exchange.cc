@@ -85,10 +85,7 @@ namespace isoimpact
 
   // The claims' counter: one integer in rank 0's memory, which both ranks
   // of a node map (MPI_Win_allocate_shared), in a passive epoch for the
-  // whole run; atomic increments by the processor's own instruction, as
-  // for the counts of passes (MPI_Fetch_and_op with its flush took about
-  // 24 ns alone and 230 ns with both ranks claiming, the instruction 6 and
-  // 23 ns: doc/parallel.md, session 46). Beside it each rank's
+  // whole run; atomic increments (MPI_Fetch_and_op). Beside it each rank's
   // count of passes, and with Load balancing = shared memory the body's
   // state (a second window), read and written in place.
   struct UnknownExchange::ClaimWindow
@@ -96,7 +93,6 @@ namespace isoimpact
     MPI_Comm   node         = MPI_COMM_NULL;
     MPI_Win    window       = MPI_WIN_NULL;
     MPI_Win    state_window = MPI_WIN_NULL;
-    long long *claims       = nullptr;
     long long *passes       = nullptr; // one per rank
     double    *state        = nullptr;
 
@@ -140,7 +136,6 @@ namespace isoimpact
       int      unit = 0;
       ierr          = MPI_Win_shared_query(window, 0, &size, &unit, &counters);
       AssertThrowMPI(ierr);
-      claims = counters;
       passes = counters + 1;
       if (n_state_values > 0)
         {
@@ -210,7 +205,14 @@ namespace isoimpact
     long long
     fetch_and_increment() const
     {
-      return __atomic_fetch_add(claims, 1, __ATOMIC_ACQ_REL);
+      const long long one = 1;
+      long long       previous;
+      int             ierr =
+        MPI_Fetch_and_op(&one, &previous, MPI_LONG_LONG, 0, 0, MPI_SUM, window);
+      AssertThrowMPI(ierr);
+      ierr = MPI_Win_flush(0, window);
+      AssertThrowMPI(ierr);
+      return previous;
     }
   };
 
