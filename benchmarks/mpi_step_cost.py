@@ -209,7 +209,8 @@ def run(program, prm, work, ranks, threads, poll_memory=False):
                        for p in range(2)]
     # Every configuration: the time per step in the bodies' passes
     # (passes_s_per_rank, the ranks' mean), the rest of the step outside
-    # them (the contacts, the waits, the step's end).
+    # them (the contacts, the waits, the step's end; against rank 0's time
+    # loop, the one summary.json gives).
     passes = statistics.mean(summary["passes_s_per_rank"]) / steps
     return (loop / steps,
             max(rss) if rss else float("nan"),

@@ -196,6 +196,18 @@ for case in sys.argv[4:]:
                    for w in waits))
     check_true(f"{label}: the serial run reports no waits",
                serial_summary["mpi_wait_s_per_rank"] == [])
+    # Each rank's time in the bodies' passes: positive, and part of its run
+    # (the time loop of summary.json is rank 0's: another rank's loop may
+    # start earlier and last longer); one process: part of its time loop
+    # less the initial acceleration.
+    for summary, n in ((parallel_summary, ranks), (serial_summary, 1)):
+        bound = (summary["wall_time_parts_s"]["total"] if n > 1 else
+                 summary["wall_time_parts_s"]["time_loop"] -
+                 summary["initial_acceleration_s"])
+        passes = summary["passes_s_per_rank"]
+        check_true(f"{label}: {n} rank(s): passes per rank {passes} s, each in "
+                   f"(0, {bound:.4g} s]",
+                   len(passes) == n and all(0. < p <= bound for p in passes))
     # The measured (or claimed) balancing's passes (pass_times.csv): one per step for
     # each balanced body (or for the bodies whole on ranks together), each
     # rank's rows adding up to the balanced unknowns, each pass time within
