@@ -64,7 +64,6 @@ their ratio is the speed-up of a step bound by memory traffic alone.
     over the ranks by the subtrees of the factor's elimination tree; the
     set-up factorises the mass once per process)."""
 import argparse
-import csv
 import json
 import math
 import os
@@ -194,24 +193,16 @@ def run(program, prm, work, ranks, threads, poll_memory=False):
               f"{peak_lines[-500:]}", file=sys.stderr)
     # The steps alone: the time loop less the initial acceleration (once
     # per run; its share of a short run's loop is not a step's cost).
-    # 2 ranks with load balancing: each rank's time per step outside its
-    # passes (the steps less the sum of its passes' times in
-    # pass_times.csv, over the steps): its contact, its waits, the step's end.
+    # Every configuration: the time per step in the bodies' passes
+    # (passes_s_per_rank, the ranks' mean). 2 ranks: each rank's time per
+    # step outside its passes (the steps less its passes, over the steps):
+    # its contact, its waits, the step's end (against rank 0's time loop,
+    # the one summary.json gives).
     initial = summary["initial_acceleration_s"]
     loop, steps = summary["wall_time_parts_s"]["time_loop"] - initial, summary["steps"]
-    outside = []
-    pass_times = os.path.join(out, "pass_times.csv")
-    if ranks == 2 and os.path.exists(pass_times):
-        with open(pass_times) as f:
-            rows = list(csv.DictReader(f))
-        if rows and "rank_0_pass_s" in rows[0]:
-            outside = [(loop - sum(float(r[f"rank_{p}_pass_s"]) for r in rows)) / steps
-                       for p in range(2)]
-    # Every configuration: the time per step in the bodies' passes
-    # (passes_s_per_rank, the ranks' mean), the rest of the step outside
-    # them (the contacts, the waits, the step's end; against rank 0's time
-    # loop, the one summary.json gives).
     passes = statistics.mean(summary["passes_s_per_rank"]) / steps
+    outside = ([(loop - p) / steps for p in summary["passes_s_per_rank"]]
+               if ranks == 2 else [])
     return (loop / steps,
             max(rss) if rss else float("nan"),
             max(anonymous.values()) if anonymous else float("nan"), summary["unknowns"],

@@ -290,8 +290,8 @@ namespace isoimpact
     summary["bodies_whole_on_ranks"]    = scene.bodies_on_ranks;
     summary["ranks_meet_at_every_step"] = facts.ranks_meet_at_every_step;
     summary["mpi_wait_s_per_rank"]      = facts.seconds_waiting_per_rank;
-    // Part of the time loop: the rest is the contacts, the waits and the
-    // step's end (and the initial acceleration).
+    // Part of each rank's time loop: the rest is the contacts, the waits
+    // and the step's end (and the initial acceleration).
     summary["passes_s_per_rank"] = facts.seconds_in_passes_per_rank;
     summary["rank_splits"]       = nlohmann::ordered_json::array();
     for (const auto &body : scene.bodies)

@@ -97,7 +97,7 @@ namespace isoimpact
     // (UnknownExchange::seconds_waiting(); empty on one process).
     std::vector<double> seconds_waiting_per_rank;
     // Each rank's (one process: its) wall time (s) in the bodies' passes,
-    // part of the time loop (CentralDifference::time_in_passes()).
+    // part of that rank's time loop (CentralDifference::time_in_passes()).
     std::vector<double> seconds_in_passes_per_rank;
   };
 
