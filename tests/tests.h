@@ -7,7 +7,9 @@
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace isoimpact_tests
 {
@@ -25,6 +27,15 @@ namespace isoimpact_tests
     return n;
   }
 
+  // The failed checks' lines, repeated by report() at the end: a log cut to
+  // its last lines (CI's) still names them.
+  inline std::vector<std::string> &
+  failed_lines()
+  {
+    static std::vector<std::string> lines;
+    return lines;
+  }
+
   // Relative check |value - expected| <= tolerance * |expected|, or with
   // absolute = true, |value - expected| <= absolute_tolerance.
   inline bool
@@ -39,12 +50,17 @@ namespace isoimpact_tests
     const double scale = absolute ? absolute_tolerance : std::abs(expected);
     const double error = std::abs(value - expected);
     const bool ok = std::isfinite(value) && error <= relative_tolerance * scale;
-    std::cout << (ok ? "ok   " : "FAIL ") << what << ": "
-              << std::setprecision(12) << value << " expected " << expected
-              << " (error " << std::setprecision(3) << error << ", allowed "
-              << relative_tolerance * scale << ")" << std::endl;
+    std::ostringstream line;
+    line << (ok ? "ok   " : "FAIL ") << what << ": " << std::setprecision(12)
+         << value << " expected " << expected << " (error "
+         << std::setprecision(3) << error << ", allowed "
+         << relative_tolerance * scale << ")";
+    std::cout << line.str() << std::endl;
     if (!ok)
-      ++failures();
+      {
+        ++failures();
+        failed_lines().push_back(line.str());
+      }
     return ok;
   }
 
@@ -54,7 +70,10 @@ namespace isoimpact_tests
     ++checks();
     std::cout << (condition ? "ok   " : "FAIL ") << what << std::endl;
     if (!condition)
-      ++failures();
+      {
+        ++failures();
+        failed_lines().push_back("FAIL " + what);
+      }
     return condition;
   }
 
@@ -62,6 +81,10 @@ namespace isoimpact_tests
   inline int
   report()
   {
+    if (!failed_lines().empty())
+      std::cout << "failed checks, again:" << std::endl;
+    for (const auto &line : failed_lines())
+      std::cout << line << std::endl;
     std::cout << checks() - failures() << " passed, " << failures() << " failed"
               << std::endl;
     return failures() == 0 ? EXIT_SUCCESS : EXIT_FAILURE;

@@ -3,6 +3,9 @@ value, the expected value and the tolerance, and a closing count line."""
 import sys
 
 _checks = {"passed": 0, "failed": 0}
+# The failed checks' lines, repeated by report() at the end: a log cut to its
+# last lines (CI's) still names them.
+_failures = []
 
 
 def check_close(what, value, expected, tolerance, relative=True):
@@ -10,18 +13,28 @@ def check_close(what, value, expected, tolerance, relative=True):
     allowed = tolerance * abs(expected) if relative else tolerance
     ok = value == value and error <= allowed  # value == value: not NaN
     _checks["passed" if ok else "failed"] += 1
-    print(f"{'ok  ' if ok else 'FAIL'} {what}: {value:.10g} expected {expected:.10g} "
-          f"(error {error:.3g}, allowed {allowed:.3g})")
+    line = (f"{'ok  ' if ok else 'FAIL'} {what}: {value:.10g} expected {expected:.10g} "
+            f"(error {error:.3g}, allowed {allowed:.3g})")
+    print(line)
+    if not ok:
+        _failures.append(line)
     return ok
 
 
 def check_true(what, condition):
     _checks["passed" if condition else "failed"] += 1
-    print(f"{'ok  ' if condition else 'FAIL'} {what}")
+    line = f"{'ok  ' if condition else 'FAIL'} {what}"
+    print(line)
+    if not condition:
+        _failures.append(line)
     return condition
 
 
 def report():
+    if _failures:
+        print("failed checks, again:")
+        for line in _failures:
+            print(line)
     print(f"{_checks['passed']} passed, {_checks['failed']} failed")
     sys.exit(0 if _checks["failed"] == 0 else 1)
 
