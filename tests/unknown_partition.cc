@@ -51,6 +51,15 @@
 //    difference), as update_ghost_values() does; a sum started and
 //    completed later equals sum() bit for bit and the exact sum of the
 //    ranks' numbers.
+// 10. Claimed balancing's claims (2 ranks; FEA at 5 refinements, a band of
+//    up to 40 % of each part: 6 chunks), in orders that messages
+//    impose: rank 0 alone takes every chunk of the band while rank 1
+//    waits, rank 1 alone takes every chunk while rank 0 waits, and rank 0
+//    takes k chunks before rank 1 claims the rest; both ranks agree on the
+//    meeting (n, 0, k chunks of rank 0), the chunks each was given are its
+//    own end's in order, and the rows of the two sides add up to the
+//    band's. (The program's history cannot show this: which rank takes a
+//    chunk depends on the machine's timing.)
 #include <deal.II/base/mpi.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
@@ -598,6 +607,111 @@ namespace
     CHECK_CLOSE_ABS(halves[0], n_ranks * (n_ranks + 1) / 2., 0.);
     CHECK_CLOSE_ABS(halves[1], whole[1], 0.);
   }
+
+  // (10) above.
+  void
+  check_claims(const Discretization<2> &discretization,
+               const MPI_Comm           communicator)
+  {
+    if (Utilities::MPI::n_mpi_processes(communicator) != 2)
+      return;
+    const UnknownPartition<2> partition(discretization, 2);
+    UnknownExchange           exchange(partition,
+                             communicator,
+                             {},
+                             LoadBalancing::claimed,
+                             0.4);
+    exchange.open_claims();
+    const unsigned int rank      = exchange.this_rank();
+    const int          n_chunks  = exchange.n_band_chunks();
+    std::size_t        band_rows = 0;
+    for (int c = 0; c < n_chunks; ++c)
+      for (const auto &[first, end] : exchange.chunk_ranges(c))
+        band_rows += end - first;
+    // Passes of the claims: `first` claims `limit` chunks (all while it
+    // can if limit < 0), tells the other rank, which claims until the
+    // ranks meet and answers; then `first` claims once more (the meeting).
+    const auto pass = [&](const unsigned int first, const int limit) {
+      std::vector<int> given;
+      int              chunk = -1, token = 0;
+      const auto       claim_all = [&]() {
+        while (exchange.claim_chunk(chunk))
+          given.push_back(chunk);
+      };
+      if (rank == first)
+        {
+          if (limit < 0)
+            claim_all();
+          else
+            for (int k = 0; k < limit; ++k)
+              {
+                AssertThrow(exchange.claim_chunk(chunk), ExcInternalError());
+                given.push_back(chunk);
+              }
+          MPI_Send(&token, 1, MPI_INT, 1 - rank, 4910, communicator);
+          MPI_Recv(&token,
+                   1,
+                   MPI_INT,
+                   1 - rank,
+                   4911,
+                   communicator,
+                   MPI_STATUS_IGNORE);
+          if (limit >= 0)
+            claim_all();
+        }
+      else
+        {
+          MPI_Recv(&token,
+                   1,
+                   MPI_INT,
+                   1 - rank,
+                   4910,
+                   communicator,
+                   MPI_STATUS_IGNORE);
+          claim_all();
+          MPI_Send(&token, 1, MPI_INT, 1 - rank, 4911, communicator);
+        }
+      // A rank's chunks: its own end's, in order.
+      bool in_order = true;
+      for (unsigned int k = 0; k < given.size(); ++k)
+        in_order =
+          in_order && given[k] == (rank == 0 ? int(k) : n_chunks - 1 - int(k));
+      return std::make_pair(int(given.size()), in_order);
+    };
+    const std::vector<std::pair<unsigned int, int>> orders = {{0, -1},
+                                                              {1, -1},
+                                                              {0, 1},
+                                                              {1, 2},
+                                                              {0, -1}};
+    for (const auto &[first, limit] : orders)
+      {
+        const auto [n_given, in_order] = pass(first, limit);
+        const int expected_of_rank_0 =
+          limit < 0 ? (first == 0 ? n_chunks : 0) :
+                      (first == 0 ? limit : n_chunks - limit);
+        const int of_rank_0 = exchange.n_chunks_of_rank_0();
+        std::cout << "claims, rank " << rank << ", rank " << first << " first ("
+                  << (limit < 0 ? "all" : std::to_string(limit))
+                  << " chunks): this rank took " << n_given << " of "
+                  << n_chunks << " chunks, the meeting after " << of_rank_0
+                  << " chunks of rank 0; rows " << exchange.n_claimed_rows(0)
+                  << " + " << exchange.n_claimed_rows(1) << " of " << band_rows
+                  << std::endl;
+        CHECK_TRUE(n_chunks >= 3);
+        CHECK_TRUE(in_order);
+        CHECK_CLOSE_ABS(of_rank_0, expected_of_rank_0, 0);
+        CHECK_CLOSE_ABS(n_given,
+                        rank == 0 ? expected_of_rank_0 :
+                                    n_chunks - expected_of_rank_0,
+                        0);
+        CHECK_CLOSE_ABS(Utilities::MPI::max(of_rank_0, communicator),
+                        Utilities::MPI::min(of_rank_0, communicator),
+                        0);
+        CHECK_CLOSE_ABS(exchange.n_claimed_rows(0) + exchange.n_claimed_rows(1),
+                        band_rows,
+                        0);
+      }
+  }
 } // namespace
 
 int
@@ -612,5 +726,6 @@ main(int argc, char **argv)
       check_renumbering(iga);
       check_exchange_halves(*make_discretization(iga, 3), MPI_COMM_WORLD);
     }
+  check_claims(*make_discretization(false, 5), MPI_COMM_WORLD);
   return isoimpact_tests::report();
 }

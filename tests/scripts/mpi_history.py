@@ -245,11 +245,14 @@ for case in sys.argv[4:]:
                        parallel_summary["wall_time_parts_s"]["total"]
                        for r in rows_of_group for p in (0, 1)))
         # Claimed: the rows each rank computed follow each pass's meeting
-        # in the band (not the partition's split at every step).
+        # in the band, which the machine's timing decides: on a machine
+        # whose ranks keep the same pace every pass may meet at the same
+        # chunk (the likely failure of a CI run, session 47). Printed, not
+        # checked here; the claims themselves are checked in orders that
+        # messages impose (unknown_partition_2_ranks, part 10).
         if claimed:
-            counts = {row["rank_0_rows"] for row in rows_of_group}
-            check_true(f"{label}: {group}: rank 0's rows in {len(counts)} different "
-                       f"counts over the passes (at least 2)", len(counts) >= 2)
+            counts = sorted({int(row["rank_0_rows"]) for row in rows_of_group})
+            print(f"     {label}: {group}: rank 0's rows over the passes: {counts}")
     check_true(f"{label}: no pass times on one process",
                not os.path.exists(os.path.join(workdir, f"{label}_1_rank", "pass_times.csv")))
     damping = float(edits.get("Contact/Damping ratio", "0"))
