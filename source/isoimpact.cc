@@ -528,8 +528,17 @@ namespace isoimpact
                                                           time_step);
       // Several ranks that meet at every step share the contact's
       // projections; ranks that need not meet each project every point
-      // rather than wait for the others' (doc/parallel.md, session 34).
-      if (n_world_ranks() > 1 && integrator->ranks_meet_at_every_step())
+      // rather than wait for the others' (doc/parallel.md, session 34),
+      // except where every body's state lies in shared memory: those
+      // ranks wait for each other's pass before the contacts anyway, and
+      // exchange the projections in that memory too (session 47).
+      const auto bodies = scene.body_pointers();
+      const bool state_shared =
+        std::all_of(bodies.begin(), bodies.end(), [](const auto *body) {
+          return body->exchange().shares_state();
+        });
+      if (n_world_ranks() > 1 &&
+          (integrator->ranks_meet_at_every_step() || state_shared))
         for (auto &contact : scene.contacts)
           contact->distribute_points(MPI_COMM_WORLD);
     }

@@ -16,6 +16,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <thread>
 
 using namespace dealii;
 
@@ -751,6 +752,109 @@ namespace isoimpact
     }
   } // namespace
 
+  namespace internal
+  {
+    // The points' outcomes of every rank in memory the ranks of one node
+    // map (MPI_Win_allocate_shared, in a passive epoch for the whole run):
+    // per rank a count of its evaluations, each on a cache line of its own,
+    // then two slots of outcomes per rank, by the parity of the evaluation.
+    // A rank writes its outcomes in place, publishes its count (release)
+    // and reads the others' slots once their counts reach its own
+    // (acquire). The parity keeps a rank's writes off the slots the others
+    // may still read: it writes a slot again two evaluations on, after the
+    // others published the evaluation between, which each does only after
+    // it has added the forces of this one.
+    struct SharedOutcomeWindow
+    {
+      MPI_Comm   node   = MPI_COMM_NULL;
+      MPI_Win    window = MPI_WIN_NULL;
+      long long *counts = nullptr; // rank p's at counts[p * count_stride]
+      double    *slots  = nullptr;
+      static constexpr unsigned int count_stride = 8; // 64 bytes
+
+      // Leaves node == MPI_COMM_NULL where the ranks are not all on one
+      // node.
+      SharedOutcomeWindow(const MPI_Comm     communicator,
+                          const unsigned int rank,
+                          const unsigned int n_ranks,
+                          const std::size_t  doubles_per_slot)
+      {
+        int ierr = MPI_Comm_split_type(communicator,
+                                       MPI_COMM_TYPE_SHARED,
+                                       rank,
+                                       MPI_INFO_NULL,
+                                       &node);
+        AssertThrowMPI(ierr);
+        int node_size = 0;
+        MPI_Comm_size(node, &node_size);
+        if (static_cast<unsigned int>(node_size) != n_ranks)
+          {
+            MPI_Comm_free(&node);
+            node = MPI_COMM_NULL;
+            return;
+          }
+        const std::size_t count_bytes =
+          n_ranks * count_stride * sizeof(long long);
+        const std::size_t bytes =
+          count_bytes + 2 * n_ranks * doubles_per_slot * sizeof(double) + 64;
+        char *base = nullptr;
+        ierr       = MPI_Win_allocate_shared(rank == 0 ? bytes : 0,
+                                       1,
+                                       MPI_INFO_NULL,
+                                       node,
+                                       &base,
+                                       &window);
+        AssertThrowMPI(ierr);
+        MPI_Aint size = 0;
+        int      unit = 0;
+        ierr          = MPI_Win_shared_query(window, 0, &size, &unit, &base);
+        AssertThrowMPI(ierr);
+        AssertThrow(static_cast<std::size_t>(size) == bytes,
+                    ExcInternalError());
+        // A cache line's boundary first (the counts apart).
+        base = reinterpret_cast<char *>(
+          (reinterpret_cast<std::uintptr_t>(base) + 63) / 64 * 64);
+        counts = reinterpret_cast<long long *>(base);
+        slots  = reinterpret_cast<double *>(base + count_bytes);
+        ierr   = MPI_Win_lock_all(MPI_MODE_NOCHECK, window);
+        AssertThrowMPI(ierr);
+        if (rank == 0)
+          std::fill(counts, counts + n_ranks * count_stride, 0LL);
+        MPI_Win_sync(window);
+        MPI_Barrier(node);
+        MPI_Win_sync(window);
+      }
+
+      ~SharedOutcomeWindow()
+      {
+        int finalized = 1;
+        MPI_Finalized(&finalized);
+        if (finalized || node == MPI_COMM_NULL)
+          return;
+        MPI_Win_unlock_all(window);
+        MPI_Win_free(&window);
+        MPI_Comm_free(&node);
+      }
+
+      // This rank's outcomes of evaluation `count` are written: published,
+      // and the wait until every rank has published as many.
+      void
+      publish_and_wait(const unsigned int rank,
+                       const unsigned int n_ranks,
+                       const long long    count) const
+      {
+        __atomic_store_n(counts + rank * count_stride, count, __ATOMIC_RELEASE);
+        for (unsigned int p = 0; p < n_ranks; ++p)
+          for (unsigned int spins = 0;
+               __atomic_load_n(counts + p * count_stride, __ATOMIC_ACQUIRE) <
+               count;
+               ++spins)
+            if (spins > 1000)
+              std::this_thread::yield(); // (more ranks than cores)
+      }
+    };
+  } // namespace internal
+
   template <int dim>
   PenaltyContact<dim>::PenaltyContact(
     const ContactSettings            &settings,
@@ -894,6 +998,21 @@ namespace isoimpact
     communicator = comm;
     n_ranks      = Utilities::MPI::n_mpi_processes(comm);
     rank         = Utilities::MPI::this_mpi_process(comm);
+    shared_outcomes.reset();
+    n_evaluations = 0;
+    if (n_ranks > 1)
+      {
+        const unsigned int n_points =
+          surfaces[0].points.size() + surfaces[1].points.size();
+        const unsigned int per_rank = (n_points + n_ranks - 1) / n_ranks;
+        auto window = std::make_shared<internal::SharedOutcomeWindow>(
+          comm,
+          rank,
+          n_ranks,
+          std::size_t(per_rank) * (sizeof(PointOutcome) / sizeof(double)));
+        if (window->node != MPI_COMM_NULL)
+          shared_outcomes = std::move(window);
+      }
   }
 
   template <int dim>
@@ -951,7 +1070,21 @@ namespace isoimpact
     const unsigned int n_points   = n_points_0 + surfaces[1].points.size();
     const unsigned int per_rank   = (n_points + n_ranks - 1) / n_ranks;
     // (Each point below marks its own slot first; the padding is not read.)
-    own_outcomes.resize(per_rank);
+    // Ranks on one node: the slots in shared memory, by the parity of
+    // this evaluation.
+    PointOutcome *own_slots = nullptr;
+    PointOutcome *all_slots = nullptr;
+    if (shared_outcomes)
+      {
+        all_slots = reinterpret_cast<PointOutcome *>(shared_outcomes->slots) +
+                    std::size_t(n_evaluations % 2) * n_ranks * per_rank;
+        own_slots = all_slots + std::size_t(rank) * per_rank;
+      }
+    else
+      {
+        own_outcomes.resize(per_rank);
+        own_slots = own_outcomes.data();
+      }
     const auto project_points = [&](const unsigned int first,
                                     const unsigned int end) {
       std::vector<double>                          r, dr;
@@ -965,7 +1098,7 @@ namespace isoimpact
           const unsigned int body  = (g < n_points_0) ? 0 : 1;
           const unsigned int other = 1 - body;
           const unsigned int q     = (body == 0) ? g : g - n_points_0;
-          own_outcomes[k].segment  = -1.;
+          own_slots[k].segment     = -1.;
           const Point<dim> &x      = current[body]->point_position(q);
           if (!current[other]->may_have_candidates(x))
             continue;
@@ -1007,17 +1140,22 @@ namespace isoimpact
                                          point.weight,
                                          damping_power);
             }
-          own_outcomes[k] = {double(projection.segment),
-                             projection.eta,
-                             {{projection.normal[0], projection.normal[1]}},
-                             gap,
-                             pressure,
-                             damping_power};
+          own_slots[k] = {double(projection.segment),
+                          projection.eta,
+                          {{projection.normal[0], projection.normal[1]}},
+                          gap,
+                          pressure,
+                          damping_power};
         }
     };
     parallel::apply_to_subranges(0U, per_rank, project_points, 64);
-    const PointOutcome *outcomes = own_outcomes.data();
-    if (n_ranks > 1)
+    const PointOutcome *outcomes = own_slots;
+    if (shared_outcomes)
+      {
+        shared_outcomes->publish_and_wait(rank, n_ranks, ++n_evaluations);
+        outcomes = all_slots;
+      }
+    else if (n_ranks > 1)
       {
         all_outcomes.resize(std::size_t(per_rank) * n_ranks);
         const int n_doubles =

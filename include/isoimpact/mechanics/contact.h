@@ -486,6 +486,8 @@ namespace isoimpact
     // structure (contact.cc).
     template <int dim>
     class CurrentSurface;
+    // The points' outcomes in memory the ranks of one node map (contact.cc).
+    struct SharedOutcomeWindow;
   } // namespace internal
 
   /**
@@ -554,10 +556,13 @@ namespace isoimpact
     /**
      * Several MPI ranks (issue 13): each rank projects every n-th Gauss
      * point of the two surfaces (numbered together, body 0 first) and the
-     * ranks exchange what the projections found in one MPI_Allgather; then
-     * every rank adds the forces of all points in the order of one process,
-     * so that the forces and the result have its bits. evaluate() is then
-     * collective. Without this call the process projects every point.
+     * ranks exchange what the projections found: in memory they all map
+     * where they share a node (each writes its outcomes in place, then
+     * waits for the others' count of evaluations), else in one
+     * MPI_Allgather; then every rank adds the forces of all points in the
+     * order of one process, so that the forces and the result have its
+     * bits. evaluate() is then collective. Without this call the process
+     * projects every point.
      */
     void
     distribute_points(const MPI_Comm communicator) override;
@@ -581,6 +586,10 @@ namespace isoimpact
     unsigned int                      n_ranks      = 1;
     unsigned int                      rank         = 0;
     mutable std::vector<PointOutcome> own_outcomes, all_outcomes;
+    // All ranks on one node: the outcomes in shared memory instead, and
+    // this rank's count of evaluations (which slot it writes next).
+    std::shared_ptr<internal::SharedOutcomeWindow> shared_outcomes;
+    mutable long long                              n_evaluations = 0;
     // Scratch of evaluate(): the two surfaces in the current configuration.
     mutable std::array<std::unique_ptr<internal::CurrentSurface<dim>>, 2>
       current_surfaces;
