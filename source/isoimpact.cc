@@ -246,6 +246,14 @@ namespace isoimpact
                   "need not meet at every step: each sends the displacement "
                   "the others read from its pass, and the energies are "
                   "summed one step late\n");
+    for (const auto &contact : scene.contacts)
+      if (contact->point_exchange() != "none")
+        pcout << "  the ranks share the contact's Gauss points and exchange "
+                 "what the projections found in "
+              << (contact->point_exchange() == "messages" ?
+                    "messages (MPI_Allgather)" :
+                    "shared memory")
+              << " (Parallel/Contact point exchange)\n";
     if (parameters.mass_redistribution)
       {
         pcout << "  mass redistribution: massless contact surfaces (";
@@ -540,7 +548,8 @@ namespace isoimpact
       if (n_world_ranks() > 1 &&
           (integrator->ranks_meet_at_every_step() || state_shared))
         for (auto &contact : scene.contacts)
-          contact->distribute_points(MPI_COMM_WORLD);
+          contact->distribute_points(MPI_COMM_WORLD,
+                                     parameters.contact_point_exchange);
     }
     print_setup();
     {

@@ -245,7 +245,10 @@ set_tests_properties(consistent_mass_solve_2_ranks PROPERTIES TIMEOUT 600)
 # step late in between, and one on 3 ranks. Four cases share the band
 # within each step (Load balancing = claimed, session 38): whole bodies with
 # ParaView records, the history every 7th step, split bodies with contact
-# damping, and a rigid plane.
+# damping, and a rigid plane. Two cases exchange the contact's outcomes in
+# messages (MPI_Allgather, Parallel/Contact point exchange = messages), the
+# path of ranks on different nodes: whole bodies in shared memory, and the
+# consistent mass on 3 ranks.
 add_test(NAME mpi_history_2_ranks
   COMMAND ${ISOIMPACT_PYTHON} ${_scripts}/mpi_history.py
     $<TARGET_FILE:isoimpact_program> ${ISOIMPACT_MPIRUN} ${_work}/mpi_history
@@ -280,7 +283,9 @@ add_test(NAME mpi_history_2_ranks
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Load balancing=measured@Output/VTU interval=301"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=shared memory@Output/VTU interval=301"
     "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_iga_hrz_coarse.prm@Parallel/Distribution=split@Parallel/Load balancing=shared memory@Contact/Damping ratio=0.2"
-    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_rigid_plane_coarse.prm@Parallel/Load balancing=shared memory@Output/History interval=7")
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_rigid_plane_coarse.prm@Parallel/Load balancing=shared memory@Output/History interval=7"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Parallel/Contact point exchange=messages"
+    "${CMAKE_CURRENT_SOURCE_DIR}/prm/hertz_fea_hrz_coarse.prm@Mass matrix/Scheme=consistent@Parallel/Contact point exchange=messages@ranks=3")
 set_tests_properties(mpi_history_2_ranks PROPERTIES TIMEOUT 600)
 
 # One thread against two (one process): on two threads the bodies' steps run

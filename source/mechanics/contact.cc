@@ -993,14 +993,15 @@ namespace isoimpact
 
   template <int dim>
   void
-  PenaltyContact<dim>::distribute_points(const MPI_Comm comm)
+  PenaltyContact<dim>::distribute_points(const MPI_Comm      comm,
+                                         const PointExchange how)
   {
     communicator = comm;
     n_ranks      = Utilities::MPI::n_mpi_processes(comm);
     rank         = Utilities::MPI::this_mpi_process(comm);
     shared_outcomes.reset();
     n_evaluations = 0;
-    if (n_ranks > 1)
+    if (n_ranks > 1 && how == PointExchange::automatic)
       {
         const unsigned int n_points =
           surfaces[0].points.size() + surfaces[1].points.size();
@@ -1013,6 +1014,15 @@ namespace isoimpact
         if (window->node != MPI_COMM_NULL)
           shared_outcomes = std::move(window);
       }
+  }
+
+  template <int dim>
+  std::string
+  PenaltyContact<dim>::point_exchange() const
+  {
+    return n_ranks == 1    ? "none" :
+           shared_outcomes ? "shared memory" :
+                             "messages";
   }
 
   template <int dim>

@@ -315,6 +315,16 @@ namespace isoimpact
       "bodies whole on ranks, without messages, to measure what the "
       "dynamic sharing gains on a machine. The results have the same bits "
       "either way.");
+    prm.declare_entry(
+      "Contact point exchange",
+      "automatic",
+      Patterns::Selection(point_exchange_names.selection()),
+      "Where several MPI ranks share the contact's Gauss points (ranks that "
+      "meet at every step, or whose bodies' state lies in shared memory), "
+      "how each gets what the others' projections found. automatic: in "
+      "memory all ranks map where they are on one node, else in one "
+      "MPI_Allgather per evaluation; messages: MPI_Allgather always (to "
+      "compare the two). The results have the same bits either way.");
     prm.leave_subsection();
 
     prm.enter_subsection("Mass matrix");
@@ -607,6 +617,8 @@ namespace isoimpact
         load_balancing_names.from_string(prm.get("Load balancing"));
       split_every_body           = prm.get("Distribution") == "split";
       pass_of_body_on_one_thread = prm.get("Thread partition") == "by body";
+      contact_point_exchange =
+        point_exchange_names.from_string(prm.get("Contact point exchange"));
     }
     prm.leave_subsection();
 

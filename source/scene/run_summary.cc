@@ -293,7 +293,12 @@ namespace isoimpact
     // Part of each rank's time loop: the rest is the contacts, the waits
     // and the step's end (and the initial acceleration).
     summary["passes_s_per_rank"] = facts.seconds_in_passes_per_rank;
-    summary["rank_splits"]       = nlohmann::ordered_json::array();
+    // Per contact: "none" (each process computes all of it), "shared
+    // memory" or "messages" (the ranks share its Gauss points).
+    summary["contact_point_exchange"] = nlohmann::ordered_json::array();
+    for (const auto &contact : scene.contacts)
+      summary["contact_point_exchange"].push_back(contact->point_exchange());
+    summary["rank_splits"] = nlohmann::ordered_json::array();
     for (const auto &body : scene.bodies)
       {
         const UnknownExchange &exchange = body->exchange();

@@ -262,6 +262,24 @@ for case in sys.argv[4:]:
              damping == 0.)
     check_true(f"{label}: the ranks meet at every step: {not loose} expected",
                parallel_summary["ranks_meet_at_every_step"] == (not loose))
+    # The two bodies' contact: ranks that meet at every step, or whose
+    # bodies' state lies in shared memory, share its Gauss points and
+    # exchange the outcomes in shared memory (every rank here is on one
+    # node) or, if the scene asks, in messages; else, and against a rigid
+    # obstacle, each process computes all of it.
+    shared_state = all(split["shares_state"] for split in splits)
+    exchange = "none"
+    if len(serial_masses) == 2 and (not loose or shared_state):
+        exchange = ("messages" if edits.get("Parallel/Contact point exchange") == "messages"
+                    else "shared memory")
+    check_true(f"{label}: contact point exchange {parallel_summary['contact_point_exchange']}"
+               f", [{exchange!r}] expected",
+               parallel_summary["contact_point_exchange"] == [exchange])
+    check_true(f"{label}: the set-up names the contact point exchange if any",
+               (f"projections found in {exchange}" in stdout) == (exchange != "none"))
+    check_true(f"{label}: one process: contact point exchange "
+               f"{serial_summary['contact_point_exchange']}, ['none'] expected",
+               serial_summary["contact_point_exchange"] == ["none"])
     interval = int(edits.get("Output/History interval", "1"))
     rows = (200 + interval - 1) // interval
     check_true(f"{label}: both histories have the same rows",

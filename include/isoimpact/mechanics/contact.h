@@ -44,6 +44,20 @@ namespace isoimpact
     "penalty per pass",
     {{{PenaltyPerPass::half, "half"}, {PenaltyPerPass::full, "full"}}}};
 
+  // How ranks that share a contact's Gauss points exchange what the
+  // projections found (ContactModel::distribute_points()).
+  enum class PointExchange
+  {
+    automatic, // in memory the ranks map where all are on one node
+    messages   // MPI_Allgather wherever the ranks are
+  };
+
+  // "automatic" or "messages".
+  inline constexpr EnumNames<PointExchange, 2> point_exchange_names{
+    "contact point exchange",
+    {{{PointExchange::automatic, "automatic"},
+      {PointExchange::messages, "messages"}}}};
+
   struct ContactSettings
   {
     double         penalty             = 1e5; // eps_N, Pa/m
@@ -429,7 +443,11 @@ namespace isoimpact
     // evaluate() is then collective. Without this call (and by default)
     // every process evaluates the whole contact itself.
     virtual void
-    distribute_points(const MPI_Comm communicator);
+    distribute_points(const MPI_Comm communicator, const PointExchange how);
+    // How this process gets the other ranks' share of the contact's work:
+    // "none" (it does all of it), "shared memory" or "messages".
+    virtual std::string
+    point_exchange() const;
     virtual double
     bipenalty_mass() const;
     virtual double
@@ -463,8 +481,15 @@ namespace isoimpact
 
   template <int dim>
   inline void
-  ContactModel<dim>::distribute_points(const MPI_Comm)
+  ContactModel<dim>::distribute_points(const MPI_Comm, const PointExchange)
   {}
+
+  template <int dim>
+  inline std::string
+  ContactModel<dim>::point_exchange() const
+  {
+    return "none";
+  }
 
   template <int dim>
   inline double
@@ -558,14 +583,18 @@ namespace isoimpact
      * point of the two surfaces (numbered together, body 0 first) and the
      * ranks exchange what the projections found: in memory they all map
      * where they share a node (each writes its outcomes in place, then
-     * waits for the others' count of evaluations), else in one
-     * MPI_Allgather; then every rank adds the forces of all points in the
-     * order of one process, so that the forces and the result have its
-     * bits. evaluate() is then collective. Without this call the process
-     * projects every point.
+     * waits for the others' count of evaluations), else (or with
+     * PointExchange::messages) in one MPI_Allgather; then every rank adds
+     * the forces of all points in the order of one process, so that the
+     * forces and the result have its bits. evaluate() is then collective.
+     * Without this call the process projects every point.
      */
     void
-    distribute_points(const MPI_Comm communicator) override;
+    distribute_points(const MPI_Comm      communicator,
+                      const PointExchange how) override;
+
+    std::string
+    point_exchange() const override;
 
   private:
     // What the projection of one Gauss point found: the other surface's

@@ -81,7 +81,10 @@ namespace isoimpact
     bool split_every_body = false;
     // Parallel/Thread partition = by body: each body's pass one task (its
     // rows on one thread), else in blocks the threads take as they come.
-    bool            pass_of_body_on_one_thread = false;
+    bool pass_of_body_on_one_thread = false;
+    // Parallel/Contact point exchange: how ranks that share the contact's
+    // Gauss points exchange the projections' outcomes.
+    PointExchange   contact_point_exchange = PointExchange::automatic;
     ContactSettings contact;
     // Penalty = auto (Contact/Penalty, and Obstacle/Penalty for an
     // obstacle): k = penalty_scale_factor mu / dt^2 (scene.cc).
