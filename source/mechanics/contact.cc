@@ -304,11 +304,14 @@ namespace isoimpact
 
       // The configuration u of `segments` (the same as in the constructor;
       // the vector must outlive the use until the next update), and the
-      // current positions of the Gauss points.
+      // current positions of the Gauss points; with `searched` also the
+      // search structure and the hull boxes, which points of the other
+      // surface need to be projected on this one.
       void
       update(const std::vector<BoundarySegment<dim>> &segments,
              const std::vector<double>               &reference_lengths,
-             const ArrayView<const double>            u);
+             const ArrayView<const double>            u,
+             const bool                               searched);
 
       // Search: the segments whose bounding box contains x.
       void
@@ -428,7 +431,8 @@ namespace isoimpact
     CurrentSurface<dim>::update(
       const std::vector<BoundarySegment<dim>> &segments,
       const std::vector<double>               &reference_lengths,
-      const ArrayView<const double>            u)
+      const ArrayView<const double>            u,
+      const bool                               searched)
     {
       AssertDimension(segments.size() + 1, first_node.size());
       this->segments = &segments;
@@ -461,6 +465,8 @@ namespace isoimpact
                 lower[d]    = std::min(lower[d], nodes[k][d]);
                 upper[d]    = std::max(upper[d], nodes[k][d]);
               }
+          if (!searched)
+            continue;
           // x(eta) = sum_j b_j W_j P_j / sum_j b_j W_j with the Bezier
           // weights W_j = sum_k w_k C_kj and points P_j = sum_k w_k C_kj
           // x_k / W_j: with all W_j > 0 the curve lies in the hull of the
@@ -505,7 +511,8 @@ namespace isoimpact
               all_boxes[1][d] = std::max(all_boxes[1][d], upper[d] + margin);
             }
         }
-      tree = decltype(tree)(boxes.begin(), boxes.end()); // bulk loading
+      if (searched)
+        tree = decltype(tree)(boxes.begin(), boxes.end()); // bulk loading
       for (unsigned int q = 0; q < point_positions.size(); ++q)
         {
           const unsigned int first  = first_node[point_segments[q]];
@@ -1001,6 +1008,10 @@ namespace isoimpact
     rank         = Utilities::MPI::this_mpi_process(comm);
     shared_outcomes.reset();
     n_evaluations = 0;
+    // Two ranks and surfaces of as many points: rank b projects body b's
+    // points, and searches only the other body's surface.
+    points_by_body =
+      n_ranks == 2 && surfaces[0].points.size() == surfaces[1].points.size();
     if (n_ranks > 1 && how == PointExchange::automatic)
       {
         const unsigned int n_points =
@@ -1048,7 +1059,9 @@ namespace isoimpact
                             !surfaces[1].mass_density.empty()),
                 ExcMessage("contact damping needs the velocities and the "
                            "surface masses of both bodies"));
-    // The two surfaces side by side (each task touches its own).
+    // The two surfaces side by side (each task touches its own). A rank
+    // that projects the points of one body only (points_by_body) searches
+    // the other body's surface only.
     {
       Threads::TaskGroup<void> updates;
       for (unsigned int b = 0; b < 2; ++b)
@@ -1057,10 +1070,12 @@ namespace isoimpact
             current_surfaces[b] =
               std::make_unique<CurrentSurface<dim>>(surfaces[b].segments,
                                                     surfaces[b].points);
-          updates += Threads::new_task([this, &displacements, b]() {
+          const bool searched = !points_by_body || b != rank;
+          updates += Threads::new_task([this, &displacements, b, searched]() {
             current_surfaces[b]->update(surfaces[b].segments,
                                         surfaces[b].reference_lengths,
-                                        displacements[b]);
+                                        displacements[b],
+                                        searched);
           });
         }
       updates.join_all();
@@ -1073,12 +1088,16 @@ namespace isoimpact
     const double eps = penalty_per_pass();
 
     // The projections of this rank's points g = rank, rank + n_ranks, ...
-    // (g numbers the points of body 0, then those of body 1), over the
-    // threads: each point's outcome has a slot of its own, and the forces
-    // are added below in one order whatever the threads.
-    const unsigned int n_points_0 = surfaces[0].points.size();
-    const unsigned int n_points   = n_points_0 + surfaces[1].points.size();
-    const unsigned int per_rank   = (n_points + n_ranks - 1) / n_ranks;
+    // (g numbers the points of body 0, then those of body 1), or with
+    // points_by_body those of body `rank`, over the threads: each point's
+    // outcome has a slot of its own (rank g % n_ranks's slot g / n_ranks,
+    // or by body rank g / per_rank's slot g % per_rank), and the forces are
+    // added below in one order whatever the threads.
+    const unsigned int n_points_0  = surfaces[0].points.size();
+    const unsigned int n_points    = n_points_0 + surfaces[1].points.size();
+    const unsigned int per_rank    = (n_points + n_ranks - 1) / n_ranks;
+    const unsigned int point_step  = points_by_body ? 1 : n_ranks;
+    const unsigned int first_point = points_by_body ? rank * per_rank : rank;
     // (Each point below marks its own slot first; the padding is not read.)
     // Ranks on one node: the slots in shared memory, by the parity of
     // this evaluation.
@@ -1102,7 +1121,7 @@ namespace isoimpact
       std::vector<std::pair<double, unsigned int>> order;
       for (unsigned int k = first; k < end; ++k)
         {
-          const unsigned int g = rank + k * n_ranks;
+          const unsigned int g = first_point + k * point_step;
           if (g >= n_points)
             break;
           const unsigned int body  = (g < n_points_0) ? 0 : 1;
@@ -1192,7 +1211,9 @@ namespace isoimpact
     for (unsigned int g = 0; g < n_points; ++g)
       {
         const PointOutcome &outcome =
-          outcomes[std::size_t(g % n_ranks) * per_rank + g / n_ranks];
+          points_by_body ?
+            outcomes[g] :
+            outcomes[std::size_t(g % n_ranks) * per_rank + g / n_ranks];
         if (outcome.segment < 0.)
           continue;
         const unsigned int body           = (g < n_points_0) ? 0 : 1;

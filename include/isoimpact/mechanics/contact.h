@@ -580,10 +580,11 @@ namespace isoimpact
 
     /**
      * Several MPI ranks (issue 13): each rank projects every n-th Gauss
-     * point of the two surfaces (numbered together, body 0 first) and the
-     * ranks exchange what the projections found: in memory they all map
-     * where they share a node (each writes its outcomes in place, then
-     * waits for the others' count of evaluations), else (or with
+     * point of the two surfaces (numbered together, body 0 first; on 2
+     * ranks with surfaces of as many points, rank b the points of body b)
+     * and the ranks exchange what the projections found: in memory they
+     * all map where they share a node (each writes its outcomes in place,
+     * then waits for the others' count of evaluations), else (or with
      * PointExchange::messages) in one MPI_Allgather; then every rank adds
      * the forces of all points in the order of one process, so that the
      * forces and the result have its bits. evaluate() is then collective.
@@ -615,6 +616,10 @@ namespace isoimpact
     unsigned int                      n_ranks      = 1;
     unsigned int                      rank         = 0;
     mutable std::vector<PointOutcome> own_outcomes, all_outcomes;
+    // 2 ranks and two surfaces of as many Gauss points: rank b projects the
+    // points of body b (it then updates the search structure of the other
+    // body's surface only), else every n_ranks-th point of both.
+    bool points_by_body = false;
     // All ranks on one node: the outcomes in shared memory instead, and
     // this rank's count of evaluations (which slot it writes next).
     std::shared_ptr<internal::SharedOutcomeWindow> shared_outcomes;
