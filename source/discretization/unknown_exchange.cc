@@ -95,6 +95,22 @@ namespace isoimpact
     MPI_Win    state_window = MPI_WIN_NULL;
     long long *passes       = nullptr; // one per rank
     double    *state        = nullptr;
+    // Sums over the ranks of at most sum_capacity values (start_sum()):
+    // each rank's values of sum k in its slot k % sum_slots, and its counts
+    // of sums started and completed (read), a cache line past the claims'
+    // counter. This process's counts in the last two.
+    static constexpr unsigned int sum_slots = 4, sum_capacity = 16;
+    long long                    *sums_started_by   = nullptr; // one per rank
+    long long                    *sums_completed_by = nullptr; // one per rank
+    double                       *sum_values        = nullptr;
+    long long                     sums_started = 0, sums_completed = 0;
+
+    double *
+    sum_slot(const unsigned int p, const long long k) const
+    {
+      return sum_values +
+             (std::size_t(p) * sum_slots + k % sum_slots) * sum_capacity;
+    }
 
     ClaimWindow(const MPI_Comm     communicator,
                 const unsigned int rank,
@@ -124,8 +140,12 @@ namespace isoimpact
                              " MB are free; use Parallel/Load balancing = "
                              "measured, or a larger /dev/shm (docker run "
                              "--shm-size)"));
-      long long *counters = nullptr;
-      int ierr = MPI_Win_allocate_shared(rank == 0 ? 3 * sizeof(long long) : 0,
+      // The claims' counter at displacement 0 (MPI_Fetch_and_op), the
+      // passes' counts, the sums' counts and values from the third cache
+      // line (the claims' counter changes all through a pass).
+      constexpr std::size_t n_counters = 16 + 4 + 2 * sum_slots * sum_capacity;
+      long long            *counters   = nullptr;
+      int ierr = MPI_Win_allocate_shared(rank == 0 ? n_counters * 8 : 0,
                                          sizeof(long long),
                                          MPI_INFO_NULL,
                                          node,
@@ -136,7 +156,11 @@ namespace isoimpact
       int      unit = 0;
       ierr          = MPI_Win_shared_query(window, 0, &size, &unit, &counters);
       AssertThrowMPI(ierr);
-      passes = counters + 1;
+      passes            = counters + 1;
+      sums_started_by   = counters + 16;
+      sums_completed_by = counters + 18;
+      sum_values        = reinterpret_cast<double *>(counters + 20);
+      static_assert(sizeof(double) == sizeof(long long));
       if (n_state_values > 0)
         {
           // 64 bytes more: the state starts at a cache line's boundary
@@ -166,7 +190,7 @@ namespace isoimpact
       ierr = MPI_Win_lock_all(MPI_MODE_NOCHECK, window);
       AssertThrowMPI(ierr);
       if (rank == 0)
-        counters[0] = counters[1] = counters[2] = 0;
+        std::fill(counters, counters + 20, 0LL);
       if (state != nullptr)
         {
           // Each rank zeroes half of the state, and after the barrier
@@ -1308,7 +1332,7 @@ namespace isoimpact
 
   UnknownExchange::SumUnderWay::~SumUnderWay()
   {
-    if (started && mpi_is_running())
+    if (started && shared_index < 0 && mpi_is_running())
       MPI_Wait(&request, MPI_STATUS_IGNORE);
   }
 
@@ -1414,6 +1438,31 @@ namespace isoimpact
     sum.own = values;
     if (n_procs == 1)
       return;
+    // Both ranks on one node: through the claims' window, no message, one
+    // such sum at a time (both ranks call the same sums in the same order,
+    // so both take the same way). Its slot is free once the other rank has
+    // read the sum that used it last (sum_slots sums ago).
+    if (claim_window && n_procs == 2 &&
+        values.size() <= ClaimWindow::sum_capacity &&
+        claim_window->sums_started == claim_window->sums_completed)
+      {
+        ClaimWindow     &w    = *claim_window;
+        const long long  k    = w.sums_started++;
+        const long long *read = w.sums_completed_by + (1 - rank);
+        if (__atomic_load_n(read, __ATOMIC_ACQUIRE) <
+            k - ClaimWindow::sum_slots + 1)
+          {
+            const WaitClock clock;
+            while (__atomic_load_n(read, __ATOMIC_ACQUIRE) <
+                   k - ClaimWindow::sum_slots + 1)
+              std::this_thread::yield();
+          }
+        std::copy(values.begin(), values.end(), w.sum_slot(rank, k));
+        __atomic_store_n(w.sums_started_by + rank, k + 1, __ATOMIC_RELEASE);
+        sum.shared_index = k;
+        sum.started      = true;
+        return;
+      }
     sum.all.resize(values.size() * n_procs);
     const int ierr = MPI_Iallgather(sum.own.data(),
                                     sum.own.size(),
@@ -1434,6 +1483,34 @@ namespace isoimpact
     values = sum.own;
     if (!sum.started)
       return;
+    if (sum.shared_index >= 0)
+      {
+        ClaimWindow     &w       = *claim_window;
+        const long long  k       = sum.shared_index;
+        const long long *started = w.sums_started_by + (1 - rank);
+        if (__atomic_load_n(started, __ATOMIC_ACQUIRE) < k + 1)
+          {
+            const WaitClock clock;
+            for (unsigned int spins = 0;
+                 __atomic_load_n(started, __ATOMIC_ACQUIRE) < k + 1;
+                 ++spins)
+              if (spins > 1000)
+                std::this_thread::yield(); // (more ranks than cores)
+          }
+        // In the ranks' order, as below: the same bits.
+        const double *first  = w.sum_slot(0, k);
+        const double *second = w.sum_slot(1, k);
+        for (std::size_t j = 0; j < values.size(); ++j)
+          values[j] = first[j] + second[j];
+        AssertThrow(w.sums_completed == k,
+                    ExcMessage("the ranks' sums complete in order"));
+        __atomic_store_n(w.sums_completed_by + rank,
+                         ++w.sums_completed,
+                         __ATOMIC_RELEASE);
+        sum.shared_index = -1;
+        sum.started      = false;
+        return;
+      }
     {
       WaitClock clock;
       const int ierr = MPI_Wait(&sum.request, MPI_STATUS_IGNORE);

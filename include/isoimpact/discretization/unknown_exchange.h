@@ -363,8 +363,9 @@ namespace isoimpact
     {
       ~SumUnderWay();
       std::vector<double> own, all;
-      MPI_Request         request = MPI_REQUEST_NULL;
-      bool                started = false;
+      MPI_Request         request      = MPI_REQUEST_NULL;
+      bool                started      = false;
+      long long           shared_index = -1; // in the claims' window
     };
     // sum() in two halves: the ranks meet only where it is completed.
     void
