@@ -550,6 +550,11 @@ namespace isoimpact
         for (auto &contact : scene.contacts)
           contact->distribute_points(MPI_COMM_WORLD,
                                      parameters.contact_point_exchange);
+      // Rank 0 alone records the history and the summary: the other ranks
+      // project the contact pressures only for the output's records.
+      if (!is_root)
+        for (auto &contact : scene.contacts)
+          contact->set_pressures_at_every_step(false);
     }
     print_setup();
     {

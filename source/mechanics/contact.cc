@@ -303,15 +303,17 @@ namespace isoimpact
                      const std::vector<SurfaceQuadraturePoint<dim>> &points);
 
       // The configuration u of `segments` (the same as in the constructor;
-      // the vector must outlive the use until the next update), and the
-      // current positions of the Gauss points; with `searched` also the
-      // search structure and the hull boxes, which points of the other
-      // surface need to be projected on this one.
+      // the vector must outlive the use until the next update); with
+      // `searched` the search structure and the hull boxes, which points of
+      // the other surface need to be projected on this one; with `points`
+      // the current positions of this surface's Gauss points, which their
+      // own projections need.
       void
       update(const std::vector<BoundarySegment<dim>> &segments,
              const std::vector<double>               &reference_lengths,
              const ArrayView<const double>            u,
-             const bool                               searched);
+             const bool                               searched,
+             const bool                               points);
 
       // Search: the segments whose bounding box contains x.
       void
@@ -432,7 +434,8 @@ namespace isoimpact
       const std::vector<BoundarySegment<dim>> &segments,
       const std::vector<double>               &reference_lengths,
       const ArrayView<const double>            u,
-      const bool                               searched)
+      const bool                               searched,
+      const bool                               points)
     {
       AssertDimension(segments.size() + 1, first_node.size());
       this->segments = &segments;
@@ -513,6 +516,8 @@ namespace isoimpact
         }
       if (searched)
         tree = decltype(tree)(boxes.begin(), boxes.end()); // bulk loading
+      if (!points)
+        return;
       for (unsigned int q = 0; q < point_positions.size(); ++q)
         {
           const unsigned int first  = first_node[point_segments[q]];
@@ -749,12 +754,14 @@ namespace isoimpact
                          const std::vector<double>         &r,
                          const Tensor<1, dim>              &normal,
                          const double                       pressure,
-                         Vector<double>                    &f,
-                         Vector<double>                    &f_other)
+                         Vector<double>                    *f,
+                         Vector<double>                    *f_other)
     {
       const Tensor<1, dim> force = pressure * point.weight * normal;
-      distribute_point_force(segment, point.shape_values, force, f);
-      distribute_point_force(other_segment, r, -force, f_other);
+      if (f != nullptr)
+        distribute_point_force(segment, point.shape_values, force, *f);
+      if (f_other != nullptr)
+        distribute_point_force(other_segment, r, -force, *f_other);
       return force;
     }
   } // namespace
@@ -1060,8 +1067,8 @@ namespace isoimpact
                 ExcMessage("contact damping needs the velocities and the "
                            "surface masses of both bodies"));
     // The two surfaces side by side (each task touches its own). A rank
-    // that projects the points of one body only (points_by_body) searches
-    // the other body's surface only.
+    // that projects the points of one body only (points_by_body) needs
+    // that surface's points and the other's search structure only.
     {
       Threads::TaskGroup<void> updates;
       for (unsigned int b = 0; b < 2; ++b)
@@ -1071,12 +1078,15 @@ namespace isoimpact
               std::make_unique<CurrentSurface<dim>>(surfaces[b].segments,
                                                     surfaces[b].points);
           const bool searched = !points_by_body || b != rank;
-          updates += Threads::new_task([this, &displacements, b, searched]() {
-            current_surfaces[b]->update(surfaces[b].segments,
-                                        surfaces[b].reference_lengths,
-                                        displacements[b],
-                                        searched);
-          });
+          const bool points   = !points_by_body || b == rank;
+          updates +=
+            Threads::new_task([this, &displacements, b, searched, points]() {
+              current_surfaces[b]->update(surfaces[b].segments,
+                                          surfaces[b].reference_lengths,
+                                          displacements[b],
+                                          searched,
+                                          points);
+            });
         }
       updates.join_all();
     }
@@ -1229,7 +1239,11 @@ namespace isoimpact
           normal[d] = outcome.normal[d];
         const double gap      = outcome.gap;
         const double pressure = outcome.pressure;
-        evaluate_segment_basis(other_segment, outcome.eta, r, dr);
+        // (r: the other segment's functions at the projection, which only
+        // its forces, the bipenalty and the tangent read.)
+        if (forces[other] != nullptr || settings.bipenalty_mass > 0. ||
+            this->linearize)
+          evaluate_segment_basis(other_segment, outcome.eta, r, dr);
         if (damped)
           result.damping_power += outcome.damping_power;
         const Tensor<1, dim> force = add_contact_traction(segment,
@@ -1238,8 +1252,8 @@ namespace isoimpact
                                                           r,
                                                           normal,
                                                           pressure,
-                                                          *forces[body],
-                                                          *forces[other]);
+                                                          forces[body],
+                                                          forces[other]);
         if (settings.bipenalty_mass > 0.)
           {
             // Lumped: eps_m w |R_k| / sum |R| per component on both
@@ -1276,16 +1290,17 @@ namespace isoimpact
                                 0.5 * eps * gap * gap * point.weight,
                                 sign_on_body_0 * force);
       }
-    for (unsigned int body = 0; body < 2; ++body)
-      add_surface_pressure(surfaces[body].nodes,
-                           surfaces[body].points,
-                           point_pressure[body],
-                           point_gap[body],
-                           body,
-                           record_points,
-                           nodal_scratch,
-                           field_scratch,
-                           result);
+    if (record_points || this->pressures_at_every_step)
+      for (unsigned int body = 0; body < 2; ++body)
+        add_surface_pressure(surfaces[body].nodes,
+                             surfaces[body].points,
+                             point_pressure[body],
+                             point_gap[body],
+                             body,
+                             record_points,
+                             nodal_scratch,
+                             field_scratch,
+                             result);
     return result;
   }
 

@@ -234,6 +234,18 @@ namespace isoimpact
           rows.add_indices(owned.begin(), owned.end());
           const auto stored = row_exchange.rows_to_store();
           band.add_indices(stored.begin(), stored.end());
+          // A lumped body whole on another rank: this rank steps its band
+          // rows at most (a consistent mass's solve, or whole_state, reads
+          // every row's force).
+          surface_rows_stepped =
+            scheme == MassScheme::consistent || ranks->whole_state ||
+            ranks->whole_on_rank == numbers::invalid_unsigned_int ||
+            ranks->whole_on_rank == rank ||
+            std::any_of(ranks->shared.begin(),
+                        ranks->shared.end(),
+                        [&band](const types::global_dof_index i) {
+                          return band.is_element(i);
+                        });
           band.subtract_set(rows);
         }
         if (ranks->shared_rows)
@@ -1368,6 +1380,13 @@ namespace isoimpact
   ElasticBody<dim>::set_contact_reads_velocity(const bool reads)
   {
     contact_reads_velocity = reads;
+  }
+
+  template <int dim>
+  bool
+  ElasticBody<dim>::steps_contact_surface() const
+  {
+    return surface_rows_stepped;
   }
 
   template <int dim>

@@ -171,7 +171,11 @@ namespace isoimpact
             pressure = result.damp(pressure, damping, gap_rate, point.weight);
           }
         const Tensor<1, dim> force = pressure * point.weight * n;
-        distribute_point_force(segment, point.shape_values, force, *forces[0]);
+        if (forces[0] != nullptr)
+          distribute_point_force(segment,
+                                 point.shape_values,
+                                 force,
+                                 *forces[0]);
         if (this->linearize)
           {
             // grad g = R_k n (the obstacle's curvature term left out).
@@ -189,15 +193,16 @@ namespace isoimpact
                                 0.5 * eps * g * g * point.weight,
                                 force);
       }
-    add_surface_pressure(nodes,
-                         points,
-                         point_pressure,
-                         point_gap,
-                         0,
-                         record_points,
-                         nodal_scratch,
-                         field_scratch,
-                         result);
+    if (record_points || this->pressures_at_every_step)
+      add_surface_pressure(nodes,
+                           points,
+                           point_pressure,
+                           point_gap,
+                           0,
+                           record_points,
+                           nodal_scratch,
+                           field_scratch,
+                           result);
     return result;
   }
 

@@ -133,6 +133,13 @@ namespace isoimpact
       std::all_of(bodies.begin(), bodies.end(), [](const auto *body) {
         return body->exchange().is_distributed() && body->step_zeroes_force();
       });
+    // A body's contact forces that no pass of this rank reads (its contact
+    // surfaces' rows stepped by another rank) are not formed here.
+    if (!boundary && !bipenalty)
+      for (unsigned int c = 0; c < contacts.size(); ++c)
+        for (unsigned int k = 0; k < contact_bodies[c].size(); ++k)
+          if (!bodies[contact_bodies[c][k]]->steps_contact_surface())
+            contact_forces[c][k] = nullptr;
     contacts_beside_displacement =
       !contacts.empty() && !boundary &&
       std::none_of(bodies.begin(), bodies.end(), [](const auto *body) {

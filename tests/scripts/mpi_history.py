@@ -12,8 +12,10 @@ Where the scene writes ParaView output, the ranks' last .pvtu record
 lists one piece per body and rank, the pieces that hold cells are one per
 body (bodies whole on ranks) or all of them (split), and the pieces
 together hold the serial run's cells: the same number of cells and points,
-and the same points with the same displacement (rows sorted, to 1e-12 of the
-largest value).
+and in every record the same points with the same displacement and contact
+pressure (rows sorted, to 1e-12 of each column's largest value over the
+records; the ranks other than 0 project the pressures only for the
+records).
 
 Both runs use one thread per process (DEAL_II_NUM_THREADS=1), the setting
 of the issue's comparison. (The consistent-mass solve splits its tree into
@@ -50,14 +52,15 @@ program, mpirun, workdir = sys.argv[1], sys.argv[2], sys.argv[3]
 os.makedirs(workdir, exist_ok=True)
 
 
-def read_last_pvtu(out):
-    """The last record of solution.pvd: its pieces, and the joined grid's
-    cells, points and sorted rows (x, y, u_x, u_y)."""
+def read_pvtu(out, record=-1):
+    """A record of solution.pvd (the last by default): its pieces, and the
+    joined grid's cells, points and sorted rows (x, y, u_x, u_y, contact
+    pressure)."""
     import xml.etree.ElementTree as ET
     import vtk
     from vtk.util.numpy_support import vtk_to_numpy
     pvd = ET.parse(os.path.join(out, "solution.pvd")).getroot()
-    last = [d.attrib["file"] for d in pvd.iter("DataSet")][-1]
+    last = [d.attrib["file"] for d in pvd.iter("DataSet")][record]
     pieces = [p.attrib["Source"] for p in ET.parse(os.path.join(out, last)).getroot().iter("Piece")]
     piece_cells = []
     for piece in pieces:
@@ -69,8 +72,10 @@ def read_last_pvtu(out):
     reader.SetFileName(os.path.join(out, last))
     reader.Update()
     grid = reader.GetOutput()
+    data = grid.GetPointData()
     rows = np.hstack([vtk_to_numpy(grid.GetPoints().GetData())[:, :2],
-                      vtk_to_numpy(grid.GetPointData().GetArray("displacement_m"))[:, :2]])
+                      vtk_to_numpy(data.GetArray("displacement_m"))[:, :2],
+                      vtk_to_numpy(data.GetArray("contact_pressure_Pa")).reshape(-1, 1)])
     rows = rows[np.lexsort(rows.T[::-1])]
     return pieces, piece_cells, grid.GetNumberOfCells(), grid.GetNumberOfPoints(), rows
 
@@ -319,9 +324,9 @@ for case in sys.argv[4:]:
         check_close(f"{label}: mass of body {b + 1} [kg/m]", m2, m1, 1e-12)
     serial_out = os.path.join(workdir, label + "_1_rank")
     if os.path.exists(os.path.join(serial_out, "solution.pvd")):
-        pieces1, _, cells1, points1, rows1 = read_last_pvtu(serial_out)
-        pieces2, piece_cells, cells2, points2, rows2 = read_last_pvtu(
-            os.path.join(workdir, f"{label}_{ranks}_ranks"))
+        parallel_out = os.path.join(workdir, f"{label}_{ranks}_ranks")
+        pieces1, _, cells1, points1, rows1 = read_pvtu(serial_out)
+        pieces2, piece_cells, cells2, points2, rows2 = read_pvtu(parallel_out)
         print(f"{label}: last record: serial {pieces1}, {ranks} ranks {pieces2} with "
               f"{piece_cells} cells")
         check_close(f"{label}: pieces of the {ranks}-rank record (one per body and rank)",
@@ -330,8 +335,18 @@ for case in sys.argv[4:]:
                     len(pieces1) if whole else len(pieces2), 0)
         check_close(f"{label}: cells of the {ranks}-rank pieces", cells2, cells1, 0)
         check_close(f"{label}: points of the {ranks}-rank pieces", points2, points1, 0)
-        scale = np.max(np.abs(rows1), axis=0)
-        check_close(f"{label}: max |difference| of the sorted points and displacements "
-                    f"/ the largest value", np.max(np.abs(rows2 - rows1) / scale) if
-                    rows1.shape == rows2.shape else 1., 0., 1e-12, relative=False)
+        import xml.etree.ElementTree as ET
+        n_records = len(list(ET.parse(os.path.join(serial_out, "solution.pvd"))
+                             .getroot().iter("DataSet")))
+        records = [(read_pvtu(serial_out, r)[4], read_pvtu(parallel_out, r)[4])
+                   for r in range(n_records)]
+        same_shape = all(a.shape == b.shape for a, b in records)
+        scale = np.max([np.max(np.abs(a), axis=0) for a, _ in records], axis=0)
+        scale[scale == 0.] = 1.
+        in_contact = sum(np.max(a[:, 4]) > 0. for a, _ in records)
+        print(f"{label}: {n_records} records, {in_contact} with contact pressure")
+        check_close(f"{label}: max |difference| of the sorted points, displacements "
+                    f"and contact pressures over the records / each column's largest value",
+                    max(np.max(np.abs(b - a) / scale) for a, b in records)
+                    if same_shape else 1., 0., 1e-12, relative=False)
 report()

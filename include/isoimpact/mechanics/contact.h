@@ -388,12 +388,13 @@ namespace isoimpact
 
     // Adds the contact forces for the current displacements (in each body's
     // unknowns) to the force vectors; one entry per body, in the model's
-    // order. The velocities (the half-step velocities of central
-    // differences) are read only with contact damping and may then not be
-    // empty. Returns energy, pressure, damping power and the resultant on
-    // body 0; with `record_points` also every active Gauss point. The
-    // displacements are views of each body's values (on ranks that share
-    // the state, the window the passes write: doc/parallel.md, session 43).
+    // order (nullptr: that body's forces are not wanted on this process). The
+    // velocities (the half-step velocities of central differences) are read
+    // only with contact damping and may then not be empty. Returns energy,
+    // pressure, damping power and the resultant on body 0; with `record_points`
+    // also every active Gauss point. The displacements are views of each body's
+    // values (on ranks that share the state, the window the passes write:
+    // doc/parallel.md, session 43).
     virtual ContactResult<dim>
     evaluate(const std::vector<dealii::ArrayView<const double>> &displacements,
              const std::vector<const dealii::Vector<double> *>  &velocities,
@@ -460,6 +461,14 @@ namespace isoimpact
     {
       linearize = on;
     }
+    // With false, evaluate() projects the pressures (max_pressure, and the
+    // points' and nodal pressures) only where record_points asks: for an MPI
+    // rank that records no history.
+    void
+    set_pressures_at_every_step(const bool on)
+    {
+      pressures_at_every_step = on;
+    }
 
     // The penalty spring the model can put on the surface of each of its
     // bodies (entry b for body b of evaluate()).
@@ -467,7 +476,8 @@ namespace isoimpact
     surface_springs() const = 0;
 
   protected:
-    bool linearize = false;
+    bool linearize               = false;
+    bool pressures_at_every_step = true;
   };
 
   template <int dim>

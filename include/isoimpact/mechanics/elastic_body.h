@@ -374,6 +374,13 @@ namespace isoimpact
     // rows this rank owns into the caller's vector. Off by default.
     void
     set_contact_reads_velocity(const bool reads);
+    // Whether this rank's steps read the contact forces on the body's
+    // contact surfaces (the shared unknowns' rows): false on a rank that
+    // steps none of those rows (the body whole on another rank, this rank
+    // taking at most rows far from them), where the contacts need not form
+    // them. True on one process.
+    bool
+    steps_contact_surface() const;
     // Displacement, velocity and acceleration complete on every rank (for
     // the output; nothing on one process).
     void
@@ -517,7 +524,9 @@ namespace isoimpact
     // copies for the contact damping: only the owner writes them), at
     // set-up.
     std::vector<dealii::types::global_dof_index> own_surface_rows;
-    bool                                         contact_reads_velocity = false;
+    // steps_contact_surface(), at set-up.
+    bool surface_rows_stepped   = true;
+    bool contact_reads_velocity = false;
     double *
     shared_array(const unsigned int k) const;
     // The distance between two arrays of the shared state (n_dofs() rounded
