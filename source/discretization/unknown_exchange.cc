@@ -36,6 +36,20 @@ namespace isoimpact
             .count();
       }
     };
+
+    // Spins until done() (counts in memory another rank of the node writes),
+    // timed as a wait if it was not so at once.
+    template <typename Done>
+    void
+    wait_until(const Done &done)
+    {
+      if (done())
+        return;
+      const WaitClock clock;
+      for (unsigned int spins = 0; !done(); ++spins)
+        if (spins > 1000)
+          std::this_thread::yield(); // (more ranks than cores)
+    }
   } // namespace
 
   namespace
@@ -742,13 +756,9 @@ namespace isoimpact
   {
     const long long  own   = claim_window->passes[rank];
     const long long *other = claim_window->passes + (1 - rank);
-    if (__atomic_load_n(other, __ATOMIC_ACQUIRE) >= own)
-      return;
-    const WaitClock clock;
-    for (unsigned int spins = 0; __atomic_load_n(other, __ATOMIC_ACQUIRE) < own;
-         ++spins)
-      if (spins > 1000)
-        std::this_thread::yield(); // (more ranks than cores)
+    wait_until([&]() {
+      return __atomic_load_n(other, __ATOMIC_ACQUIRE) >= own;
+    });
   }
 
   bool
@@ -1449,14 +1459,10 @@ namespace isoimpact
         ClaimWindow     &w    = *claim_window;
         const long long  k    = w.sums_started++;
         const long long *read = w.sums_completed_by + (1 - rank);
-        if (__atomic_load_n(read, __ATOMIC_ACQUIRE) <
-            k - ClaimWindow::sum_slots + 1)
-          {
-            const WaitClock clock;
-            while (__atomic_load_n(read, __ATOMIC_ACQUIRE) <
-                   k - ClaimWindow::sum_slots + 1)
-              std::this_thread::yield();
-          }
+        wait_until([&]() {
+          return __atomic_load_n(read, __ATOMIC_ACQUIRE) >=
+                 k - ClaimWindow::sum_slots + 1;
+        });
         std::copy(values.begin(), values.end(), w.sum_slot(rank, k));
         __atomic_store_n(w.sums_started_by + rank, k + 1, __ATOMIC_RELEASE);
         sum.shared_index = k;
@@ -1488,15 +1494,9 @@ namespace isoimpact
         ClaimWindow     &w       = *claim_window;
         const long long  k       = sum.shared_index;
         const long long *started = w.sums_started_by + (1 - rank);
-        if (__atomic_load_n(started, __ATOMIC_ACQUIRE) < k + 1)
-          {
-            const WaitClock clock;
-            for (unsigned int spins = 0;
-                 __atomic_load_n(started, __ATOMIC_ACQUIRE) < k + 1;
-                 ++spins)
-              if (spins > 1000)
-                std::this_thread::yield(); // (more ranks than cores)
-          }
+        wait_until([&]() {
+          return __atomic_load_n(started, __ATOMIC_ACQUIRE) >= k + 1;
+        });
         // In the ranks' order, as below: the same bits.
         const double *first  = w.sum_slot(0, k);
         const double *second = w.sum_slot(1, k);
