@@ -349,7 +349,8 @@ namespace isoimpact
     const std::regex owned(
       "(parameters\\.prm|history\\.csv|summary\\.json|solution\\.pvd|"
       "solution_[0-9]+\\.pvtu|body[0-9]+_[0-9]+(\\.[0-9]+)?\\.vtu|"
-      "contact_pressure_t[0-9.]+\\.csv|pass_times\\.csv)(\\.tmp)?");
+      "contact_pressure_t[0-9.]+\\.csv|pass_times\\.csv|step_times\\.csv)"
+      "(\\.tmp)?");
     unsigned int n_removed = 0;
     for (const auto &entry : std::filesystem::directory_iterator(directory))
       if (entry.is_regular_file() &&
@@ -591,6 +592,22 @@ namespace isoimpact
     first_record.reset();
     const std::uint64_t progress_every =
       std::max<std::uint64_t>(1, n_steps * parameters.progress_interval / 100.);
+    // Output/Step times: the end of each step on the monotonic clock, for
+    // benchmarks that hold and resume the run, and the time in the bodies'
+    // passes up to it (rank 0's; the ranks move together); "step 0" is the
+    // loop's start.
+    std::vector<double> step_ends, passes_until;
+    const auto          note_step_end = [&]() {
+      if (parameters.step_times && is_root)
+        {
+          step_ends.push_back(
+            std::chrono::duration<double>(
+              std::chrono::steady_clock::now().time_since_epoch())
+              .count());
+          passes_until.push_back(integrator->time_in_passes());
+        }
+    };
+    note_step_end();
     for (std::uint64_t step = 1; step <= n_steps && failure.empty(); ++step)
       {
         const double next_time = step * time_step;
@@ -605,6 +622,7 @@ namespace isoimpact
           integrator->advance(profile || is_vtu_step(step), is_vtu_step(step));
           failure = monitor->check();
         }
+        note_step_end();
         if (!failure.empty())
           break;
         {
@@ -681,6 +699,12 @@ namespace isoimpact
         RunSummary::write_pass_times(parameters.output_directory +
                                        "/pass_times.csv",
                                      scene);
+        if (parameters.step_times)
+          RunSummary::write_step_times(parameters.output_directory +
+                                         "/step_times.csv",
+                                       step_ends,
+                                       passes_until,
+                                       time_step);
       }
     if (!failure.empty())
       {
@@ -714,7 +738,7 @@ namespace isoimpact
                       }) ?
             ",pass_times.csv" :
             "")
-      << "}" << std::endl;
+      << (parameters.step_times ? ",step_times.csv" : "") << "}" << std::endl;
     pcout << "  wall time: set-up " << setup_time << " s, time steps "
           << loop_time << " s, output " << output_time << " s (ParaView "
           << paraview_time << " s), total " << facts.total_wall_time

@@ -551,6 +551,13 @@ namespace isoimpact
                       "10",
                       Patterns::Double(0., 100.),
                       "Percent of the run between progress lines.");
+    prm.declare_entry(
+      "Step times",
+      "false",
+      Patterns::Bool(),
+      "Write step_times.csv: the end of each step on the "
+      "machine's monotonic clock (s), for benchmarks that "
+      "pause and resume runs (benchmarks/alternating_runs.py).");
     prm.leave_subsection();
   }
 
@@ -675,6 +682,7 @@ namespace isoimpact
     approach_law      = prm.get("Analytic reference");
     progress_interval = prm.get_double("Progress interval");
     filter_window     = prm.get_double("Filter window");
+    step_times        = prm.get_bool("Step times");
     prm.leave_subsection();
   }
 

@@ -400,4 +400,20 @@ namespace isoimpact
         }
     });
   }
+
+  void
+  RunSummary::write_step_times(const std::string         &path,
+                               const std::vector<double> &step_ends,
+                               const std::vector<double> &passes_until,
+                               const double               time_step)
+  {
+    write_by_rename(path, [&](std::ostream &out) {
+      out << "step,time_s,monotonic_clock_s,passes_s\n"
+          << std::setprecision(17);
+      for (std::size_t step = 0; step < step_ends.size(); ++step)
+        out << step << ',' << step * time_step << ',' << step_ends[step] << ','
+            << (step == 0 ? 0. : passes_until[step] - passes_until[step - 1])
+            << '\n';
+    });
+  }
 } // namespace isoimpact

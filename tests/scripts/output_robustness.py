@@ -73,7 +73,7 @@ def check_files_readable(folder, max_tmp=0):
 folder = os.path.join(workdir, "rerun")
 os.makedirs(folder)
 stale = ["body1_0099.vtu", "body2_0099.vtu", "solution_0099.pvtu", "contact_pressure_t9.9990.csv",
-         "summary.json.tmp", "body1_0100.vtu.tmp", "pass_times.csv"]
+         "summary.json.tmp", "body1_0100.vtu.tmp", "pass_times.csv", "step_times.csv"]
 for name in stale + ["notes.txt"]:
     open(os.path.join(folder, name), "w").write("an earlier run\n")
 open(os.path.join(folder, "summary.json"), "w").write('{"steps": 99999}\n')
@@ -81,8 +81,8 @@ run = subprocess.run([program, prm("rerun", {"Time integration/End time": "0.05"
                                              "Output/VTU interval": "50"})],
                      cwd=workdir, capture_output=True, text=True)
 check_true("rerun: exit 0", run.returncode == 0)
-check_true("rerun: says it removed the 8 files of the earlier run",
-           "removed 8 files of an earlier run" in run.stdout)
+check_true("rerun: says it removed the 9 files of the earlier run",
+           "removed 9 files of an earlier run" in run.stdout)
 left = os.listdir(folder)
 check_true("rerun: no stale file left", not any(name in left for name in stale))
 check_true("rerun: a file the program does not own is kept", "notes.txt" in left)
@@ -92,7 +92,8 @@ check_true("rerun: the new VTU files", "body1_0002.vtu" in left and "body1_0003.
 
 # 2. An end time that is not a multiple of the step: 201 steps of 0.10025/201 s.
 run = subprocess.run([program, prm("end_time", {"Time integration/End time": "0.10025",
-                                                "Output/VTU interval": "0"})],
+                                                "Output/VTU interval": "0",
+                                                "Output/Step times": "true"})],
                      cwd=workdir, capture_output=True, text=True)
 check_true("end time 0.10025 s, step 5e-4 s: exit 0", run.returncode == 0)
 summary = json.load(open(os.path.join(workdir, "end_time", "summary.json")))
@@ -100,6 +101,33 @@ check_close("end time: steps", summary["steps"], 201, 0)
 check_close("end time: step shortened to End time / 201 [s]", summary["time_step_s"], 0.10025 / 201, 1e-14)
 rows = history_rows(os.path.join(workdir, "end_time"))
 check_close("end time: the last row is at the end time [s]", float(rows[-1][0]), 0.10025, 1e-12)
+# Output/Step times: each step's end on the monotonic clock (step 0: the
+# loop's start, after the initial acceleration), within the time loop's and
+# the output's wall time.
+lines = open(os.path.join(workdir, "end_time", "step_times.csv")).read().split("\n")
+check_true("step_times.csv: its header", lines[0] == "step,time_s,monotonic_clock_s,passes_s")
+table = [[float(x) for x in line.split(",")] for line in lines[1:] if line]
+check_close("step_times.csv: a row per step and one for step 0", len(table), 202, 0)
+check_true("step_times.csv: steps 0, 1, ..., 201",
+           [row[0] for row in table] == list(range(202)))
+check_close("step_times.csv: time of the last row = end time [s]", table[-1][1], 0.10025, 1e-12)
+check_true("step_times.csv: the clock grows from step to step",
+           all(b[2] > a[2] for a, b in zip(table, table[1:])))
+wall = summary["wall_time_parts_s"]
+span = table[-1][2] - table[0][2]
+print(f"step_times.csv: steps 1-201 span {span:.4f} s; time loop less the initial "
+      f"acceleration {wall['time_loop'] - summary['initial_acceleration_s']:.4f} s, "
+      f"time loop and output {wall['time_loop'] + wall['output']:.4f} s")
+check_true("step_times.csv: steps 1-201 span at least the time loop less the initial "
+           "acceleration and at most the time loop and the output",
+           wall["time_loop"] - summary["initial_acceleration_s"] <= span
+           <= wall["time_loop"] + wall["output"])
+passes = sum(row[3] for row in table)
+print(f"step_times.csv: passes {passes:.6f} s, summary.json {summary['passes_s_per_rank'][0]:.6f} s")
+check_close("step_times.csv: the steps' passes add up to summary.json's passes_s_per_rank",
+            passes, summary["passes_s_per_rank"][0], 1e-9)
+check_true("step_times.csv: each step's passes within the step",
+           all(0 < b[3] <= b[2] - a[2] for a, b in zip(table, table[1:])))
 check_true("end time: the setup says the step was shortened",
            "the step 0.0005 s shortened so that the last step ends at the end time" in run.stdout)
 # The run stops inside the impact: no contact duration to report as one.

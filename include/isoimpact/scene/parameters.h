@@ -128,8 +128,9 @@ namespace isoimpact
     bool                vtu_compression  = false;
     std::vector<double> profile_times;
     std::string         approach_law      = "Gerl-Zippelius";
-    double              progress_interval = 10.;  // percent of the run
-    double              filter_window     = 0.01; // s
+    double              progress_interval = 10.;   // percent of the run
+    double              filter_window     = 0.01;  // s
+    bool                step_times        = false; // step_times.csv
 
     // A scene whose deformable bodies (n_bodies()) are all half disks with
     // a symmetry cut models a half by symmetry: 2, else 1.

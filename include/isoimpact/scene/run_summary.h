@@ -167,6 +167,19 @@ namespace isoimpact
     static void
     write_pass_times(const std::string &path, const Scene &scene);
 
+    /**
+     * Writes `step_ends` (the end of steps 0, 1, ... on the monotonic clock
+     * std::chrono::steady_clock, s; step 0's is the time loop's start, after
+     * the initial acceleration and its record) and `passes_until` (the time
+     * in the bodies' passes up to each, s) to `path` as CSV: step, time
+     * [s], clock [s], the step's time in the passes [s]. By rename.
+     */
+    static void
+    write_step_times(const std::string         &path,
+                     const std::vector<double> &step_ends,
+                     const std::vector<double> &passes_until,
+                     double                     time_step);
+
   private:
     double              time_step;
     unsigned int        filter_width;

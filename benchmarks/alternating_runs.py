@@ -1,0 +1,242 @@
+#!/usr/bin/env python3
+"""2 MPI ranks x 1 thread against 1 rank x 2 threads (issue 13) on one
+machine whose cores change speed from minute to minute: both runs at once,
+taking turns. Whole runs one after the other (benchmarks/mpi_step_cost.py)
+see the machine at different times, and their ratio moved by 10-30 %
+between rounds (doc/parallel.md, sessions 18, 46-49); here the runs are set
+up one after the other, then held (SIGSTOP) and resumed (SIGCONT) in turn,
+`--window` seconds each, so that each round's windows lie seconds apart.
+Each run writes the end of every step on the monotonic clock
+(`Output/Step times = true`, step_times.csv); a window's time per step is
+the mean over the steps that began and ended inside it, its first step left
+out (the caches after the other run). Round by round, the step of 2 ranks
+over that of 2 threads (the windows' order alternates between rounds); the
+table gives their median and its distribution-free interval (the sign
+test's, as mpi_step_cost.py), and in how many rounds 2 ranks were no
+slower. With --serial, also 1 rank x 1 thread, for the speed-up (its run
+has half the steps).
+
+The scene: the Hertz benchmark, prm/hertz_fea_hrz.prm at Global
+refinements 7 or prm/hertz_iga_hrz.prm at 8 (about 1e6 unknowns), the time
+step of mpi_step_cost.py (2.5e-4 s at level 4, halved per level), no
+ParaView output, history every 100 steps.
+
+usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
+          [--level L] [--steps 6000] [--window 1.0] [--build build] [--serial]
+          [--also "2 ranks, unbound" | "2 ranks, measured" | "2 ranks, claimed"
+                  | "2 threads, by body"] [--keep FOLDER]
+  --steps: steps of each 2-core run; the turns go on until every run ended
+    (a round counts where both 2-core runs had a window with steps).
+  --also: a further run (repeatable), each against 2 threads as 2 ranks are:
+    2 ranks with mpirun --bind-to none (Open MPI binds 2 ranks to a core
+    each by default; the threads are not bound), with Load balancing =
+    measured or claimed (the default for two bodies, automatic, is shared
+    memory on one node), 2 threads with Thread partition = by body."""
+import argparse
+import os
+import re
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(root, "benchmarks"))
+sys.path.insert(0, os.path.join(root, "tests", "scripts"))
+from mpi_step_cost import CASES, median_interval  # noqa: E402
+from testing import edit_prm  # noqa: E402
+
+# label: ranks, threads, mpirun's options, the scene's parameters.
+CONFIGS = {"2 threads": (1, 2, [], {}), "2 ranks": (2, 1, [], {}), "1 x 1": (1, 1, [], {}),
+           # --also: variants, each against 2 threads too.
+           "2 ranks, unbound": (2, 1, ["--bind-to", "none"], {}),
+           "2 ranks, measured": (2, 1, [], {"Parallel/Load balancing": "measured"}),
+           "2 ranks, claimed": (2, 1, [], {"Parallel/Load balancing": "claimed"}),
+           "2 threads, by body": (1, 2, [], {"Parallel/Thread partition": "by body"})}
+
+
+def scene(method, level, steps, work, name, edits):
+    prm, levels = CASES[method]
+    level = level if level is not None else levels[1]
+    dt = 2.5e-4 / 2 ** (level - 4)
+    return edit_prm(os.path.join(root, prm), os.path.join(work, name + ".prm"),
+                    {"Discretization/Global refinements": str(level),
+                     "Time integration/Time step": repr(dt),
+                     "Time integration/End time": repr(steps * dt),
+                     "Output/Directory": name, "Output/VTU interval": "0",
+                     "Output/History interval": "100",
+                     "Output/Pressure profile times": "",
+                     "Output/Progress interval": "1",
+                     "Output/Step times": "true", **edits})
+
+
+def program_processes(top_pid, program):
+    """The processes of `program` among the descendants of top_pid."""
+    parents = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as stat:
+                    parents[int(entry)] = int(stat.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                pass
+    name = os.path.basename(program)[:15]
+    found = []
+    for pid in parents:
+        ancestor = pid
+        while ancestor in parents and ancestor != top_pid:
+            ancestor = parents[ancestor]
+        if ancestor != top_pid and pid != top_pid:
+            continue
+        try:
+            with open(f"/proc/{pid}/comm") as comm:
+                if comm.read().strip() == name:
+                    found.append(pid)
+        except OSError:
+            pass
+    return found
+
+
+class Run:
+    def __init__(self, label, program, prm, work):
+        ranks, threads, options, _ = CONFIGS[label]
+        self.label, self.work = label, work
+        self.out = os.path.join(work, os.path.splitext(os.path.basename(prm))[0])
+        self.log = open(self.out + ".log", "w")
+        command = [program, prm]
+        if ranks > 1:
+            command = ["mpirun", "--allow-run-as-root", "-np", str(ranks),
+                       "-x", "DEAL_II_NUM_THREADS"] + options + command
+        self.process = subprocess.Popen(
+            command, cwd=work, stdout=self.log, stderr=subprocess.STDOUT,
+            env={**os.environ, "DEAL_II_NUM_THREADS": str(threads)})
+        self.program, self.ranks, self.pids = program, ranks, []
+        self.windows = []  # (resumed, held) on the monotonic clock
+
+    def stepping(self):
+        """Whether the run printed a progress line (set-up done)."""
+        with open(self.log.name) as log:
+            return re.search(r"^\s*step\s+\d+/\d+", log.read(), re.M) is not None
+
+    def signal(self, number):
+        for pid in self.pids:
+            try:
+                os.kill(pid, number)
+            except ProcessLookupError:
+                pass
+
+    def set_up(self):
+        while not self.stepping():
+            if self.process.poll() is not None:
+                sys.exit(f"{self.label} ended before its steps:\n"
+                         + open(self.log.name).read()[-2000:])
+            time.sleep(0.2)
+        while len(self.pids) < self.ranks:
+            self.pids = program_processes(self.process.pid, self.program)
+        self.signal(signal.SIGSTOP)
+
+    def turn(self, seconds):
+        if self.process.poll() is not None:
+            return
+        resumed = time.monotonic()
+        self.signal(signal.SIGCONT)
+        try:
+            self.process.wait(seconds)
+        except subprocess.TimeoutExpired:
+            self.signal(signal.SIGSTOP)
+        self.windows.append((resumed, time.monotonic()))
+
+    def steps_per_window(self):
+        """In each window, the mean time per step and the mean time in the
+        passes per step [s] (None without two whole steps in it), from
+        step_times.csv."""
+        if self.process.wait() != 0:
+            sys.exit(f"{self.label} failed:\n" + open(self.log.name).read()[-2000:])
+        with open(os.path.join(self.out, "step_times.csv")) as table:
+            next(table)
+            rows = [[float(x) for x in line.split(",")] for line in table]
+        means = []
+        for resumed, held in self.windows:
+            inside = [(a[2], b[2], b[3]) for a, b in zip(rows, rows[1:])
+                      if a[2] >= resumed and b[2] <= held]
+            inside = inside[1:]  # the first step after the other run
+            means.append((statistics.mean(b - a for a, b, _ in inside),
+                          statistics.mean(p for _, _, p in inside)) if inside else None)
+        return means
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--method", choices=list(CASES), default="FEA Q9")
+    parser.add_argument("--level", type=int)
+    parser.add_argument("--steps", type=int, default=6000)
+    parser.add_argument("--window", type=float, default=1.0)
+    parser.add_argument("--build", default=os.path.join(root, "build"))
+    parser.add_argument("--serial", action="store_true")
+    parser.add_argument("--keep", help="a folder for the runs (kept)")
+    parser.add_argument("--also", action="append", default=[],
+                        choices=[label for label in CONFIGS if "," in label],
+                        help="a further run, against 2 threads too")
+    args = parser.parse_args()
+    program = os.path.join(args.build, "isoimpact")
+    work = args.keep or tempfile.mkdtemp(prefix="alternating_")
+    os.makedirs(work, exist_ok=True)
+    labels = ["2 threads", "2 ranks"] + args.also + (["1 x 1"] if args.serial else [])
+    runs = []
+    for label in labels:
+        name = label.replace(" ", "_").replace(",", "")
+        steps = args.steps // 2 if label == "1 x 1" else args.steps
+        runs.append(Run(label, program, scene(args.method, args.level, steps, work,
+                                              name, CONFIGS[label][3]), work))
+        runs[-1].set_up()  # held at its first steps
+        print(f"{label}: set up, held", flush=True)
+    turns = 0
+    while any(run.process.poll() is None for run in runs):
+        order = runs if turns % 2 == 0 else runs[::-1]
+        for run in order:
+            run.turn(args.window)
+        turns += 1
+    means = {run.label: run.steps_per_window() for run in runs}
+    print(f"{args.method}, {args.steps} steps per 2-core run, windows of "
+          f"{args.window} s, {turns} rounds; runs in {work}")
+    print("the windows' medians [ms per step]: step; passes; rest")
+    for label, values in means.items():
+        values = [x for x in values if x]
+        if values:
+            steps = [1e3 * step for step, _ in values]
+            passes = [1e3 * passes for _, passes in values]
+            rest = [1e3 * (step - passes) for step, passes in values]
+            print(f"  {label}: {statistics.median(steps):.3f}; {statistics.median(passes):.3f}; "
+                  f"{statistics.median(rest):.3f} ({len(values)} windows)")
+
+    def describe(what, values, unit_is_ratio=True):
+        interval = median_interval(values, 0.95)
+        text = f"{what}: median {statistics.median(values):.4f}"
+        if interval:
+            text += f", [{interval[0]:.4f}, {interval[1]:.4f}] at {100 * interval[2]:.1f} %"
+        if unit_is_ratio:
+            text += f", at most 1 in {sum(v <= 1 for v in values)} of {len(values)}"
+        else:
+            text += f", above 0 in {sum(v > 0 for v in values)} of {len(values)}"
+        print(text)
+
+    for label in [label for label in labels[1:] if label != "1 x 1"]:
+        pairs = [(a, b) for a, b in zip(means["2 threads"], means[label]) if a and b]
+        if not pairs:
+            continue
+        print(f"{label} against 2 threads, round by round ({len(pairs)} rounds):")
+        describe("  step, over 2 threads'", [b[0] / a[0] for a, b in pairs])
+        describe("  passes, over 2 threads'", [b[1] / a[1] for a, b in pairs])
+        describe("  rest, less 2 threads' [ms]",
+                 [1e3 * ((b[0] - b[1]) - (a[0] - a[1])) for a, b in pairs], False)
+    if args.serial:
+        speedups = [a[0] / b[0] for a, b in zip(means["1 x 1"], means["2 ranks"]) if a and b]
+        if speedups:
+            print(f"speed-up of 2 ranks over 1 x 1 (its step over theirs), round by round: "
+                  f"median {statistics.median(speedups):.3f} ({len(speedups)} rounds)")
+
+
+if __name__ == "__main__":
+    main()
