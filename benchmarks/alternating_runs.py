@@ -24,15 +24,21 @@ ParaView output, history every 100 steps.
 usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
           [--level L] [--steps 6000] [--window 1.0] [--build build] [--serial]
           [--also "2 ranks, unbound" | "2 ranks, measured" | "2 ranks, claimed"
-                  | "2 threads, by body"] [--keep FOLDER]
+                  | "2 threads, by body"] [--keep FOLDER] [--analyse FOLDER]
   --steps: steps of each 2-core run; the turns go on until every run ended
     (a round counts where both 2-core runs had a window with steps).
   --also: a further run (repeatable), each against 2 threads as 2 ranks are:
     2 ranks with mpirun --bind-to none (Open MPI binds 2 ranks to a core
     each by default; the threads are not bound), with Load balancing =
     measured or claimed (the default for two bodies, automatic, is shared
-    memory on one node), 2 threads with Thread partition = by body."""
+    memory on one node), 2 threads with Thread partition = by body.
+  --keep: the runs' folder (windows.json, each run's step_times.csv), kept;
+    --analyse FOLDER prints its table again.
+The table also counts each run's stalls: steps whose rest (outside the
+passes) exceeds the run's median rest by more than 1 ms, and what they add
+per step."""
 import argparse
+import json
 import os
 import re
 import signal
@@ -148,23 +154,21 @@ class Run:
             self.signal(signal.SIGSTOP)
         self.windows.append((resumed, time.monotonic()))
 
-    def steps_per_window(self):
-        """In each window, the mean time per step and the mean time in the
-        passes per step [s] (None without two whole steps in it), from
-        step_times.csv."""
-        if self.process.wait() != 0:
-            sys.exit(f"{self.label} failed:\n" + open(self.log.name).read()[-2000:])
-        with open(os.path.join(self.out, "step_times.csv")) as table:
-            next(table)
-            rows = [[float(x) for x in line.split(",")] for line in table]
-        means = []
-        for resumed, held in self.windows:
-            inside = [(a[2], b[2], b[3]) for a, b in zip(rows, rows[1:])
-                      if a[2] >= resumed and b[2] <= held]
-            inside = inside[1:]  # the first step after the other run
-            means.append((statistics.mean(b - a for a, b, _ in inside),
-                          statistics.mean(p for _, _, p in inside)) if inside else None)
-        return means
+
+
+def window_steps(out, windows):
+    """The steps (duration, time in the passes) [s] that began and ended
+    inside each window, from out/step_times.csv, the first step of each
+    left out (the caches after the other run)."""
+    with open(os.path.join(out, "step_times.csv")) as table:
+        next(table)
+        rows = [[float(x) for x in line.split(",")] for line in table]
+    steps = []
+    for resumed, held in windows:
+        inside = [(b[2] - a[2], b[3]) for a, b in zip(rows, rows[1:])
+                  if a[2] >= resumed and b[2] <= held]
+        steps.append(inside[1:])
+    return steps
 
 
 def main():
@@ -179,7 +183,12 @@ def main():
     parser.add_argument("--also", action="append", default=[],
                         choices=[label for label in CONFIGS if "," in label],
                         help="a further run, against 2 threads too")
+    parser.add_argument("--analyse", metavar="FOLDER",
+                        help="only the table of the runs kept in FOLDER")
     args = parser.parse_args()
+    if args.analyse:
+        analyse(args.analyse)
+        return
     program = os.path.join(args.build, "isoimpact")
     work = args.keep or tempfile.mkdtemp(prefix="alternating_")
     os.makedirs(work, exist_ok=True)
@@ -198,18 +207,46 @@ def main():
         for run in order:
             run.turn(args.window)
         turns += 1
-    means = {run.label: run.steps_per_window() for run in runs}
-    print(f"{args.method}, {args.steps} steps per 2-core run, windows of "
-          f"{args.window} s, {turns} rounds; runs in {work}")
-    print("the windows' medians [ms per step]: step; passes; rest")
+    for run in runs:
+        if run.process.wait() != 0:
+            sys.exit(f"{run.label} failed:\n" + open(run.log.name).read()[-2000:])
+    with open(os.path.join(work, "windows.json"), "w") as record:
+        json.dump({"method": args.method, "steps": args.steps, "window": args.window,
+                   "rounds": turns,
+                   "runs": {run.label: {"out": run.out, "windows": run.windows}
+                            for run in runs}}, record, indent=1)
+    analyse(work)
+
+
+def analyse(work):
+    """The table of the runs in `work` (windows.json and the runs'
+    step_times.csv)."""
+    record = json.load(open(os.path.join(work, "windows.json")))
+    print(f"{record['method']}, {record['steps']} steps per 2-core run, windows of "
+          f"{record['window']} s, {record['rounds']} rounds; runs in {work}")
+    steps = {label: window_steps(run["out"], run["windows"])
+             for label, run in record["runs"].items()}
+    # Each window's mean step and mean time in the passes (None if empty).
+    means = {label: [(statistics.mean(s for s, _ in window),
+                      statistics.mean(p for _, p in window)) if window else None
+                     for window in windows]
+             for label, windows in steps.items()}
+    print("the windows' medians [ms per step]: step; passes; rest. Stalls: the steps "
+          "whose rest exceeds the run's median rest by more than 1 ms")
     for label, values in means.items():
         values = [x for x in values if x]
         if values:
-            steps = [1e3 * step for step, _ in values]
-            passes = [1e3 * passes for _, passes in values]
-            rest = [1e3 * (step - passes) for step, passes in values]
-            print(f"  {label}: {statistics.median(steps):.3f}; {statistics.median(passes):.3f}; "
-                  f"{statistics.median(rest):.3f} ({len(values)} windows)")
+            every = [1e3 * (s - p) for window in steps[label] for s, p in window]
+            middle = statistics.median(every)
+            stalls = [r - middle for r in every if r > middle + 1]
+            print(f"  {label}: {statistics.median(1e3 * s for s, _ in values):.3f}; "
+                  f"{statistics.median(1e3 * p for _, p in values):.3f}; "
+                  f"{statistics.median(1e3 * (s - p) for s, p in values):.3f} "
+                  f"({len(values)} windows); stalls {len(stalls)} of {len(every)} steps, "
+                  f"{sum(stalls) / len(every):.3f} ms per step"
+                  + (f", each {min(stalls):.1f}-{max(stalls):.1f} ms (quartiles "
+                     f"{' '.join(f'{q:.1f}' for q in statistics.quantiles(stalls))})"
+                     if len(stalls) > 1 else ""))
 
     def describe(what, values, unit_is_ratio=True):
         interval = median_interval(values, 0.95)
@@ -222,7 +259,7 @@ def main():
             text += f", above 0 in {sum(v > 0 for v in values)} of {len(values)}"
         print(text)
 
-    for label in [label for label in labels[1:] if label != "1 x 1"]:
+    for label in [label for label in means if label not in ("2 threads", "1 x 1")]:
         pairs = [(a, b) for a, b in zip(means["2 threads"], means[label]) if a and b]
         if not pairs:
             continue
@@ -231,7 +268,7 @@ def main():
         describe("  passes, over 2 threads'", [b[1] / a[1] for a, b in pairs])
         describe("  rest, less 2 threads' [ms]",
                  [1e3 * ((b[0] - b[1]) - (a[0] - a[1])) for a, b in pairs], False)
-    if args.serial:
+    if "1 x 1" in means:
         speedups = [a[0] / b[0] for a, b in zip(means["1 x 1"], means["2 ranks"]) if a and b]
         if speedups:
             print(f"speed-up of 2 ranks over 1 x 1 (its step over theirs), round by round: "
