@@ -24,14 +24,20 @@ ParaView output, history every 100 steps.
 usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
           [--level L] [--steps 6000] [--window 1.0] [--build build] [--serial]
           [--also "2 ranks, unbound" | "2 ranks, measured" | "2 ranks, claimed"
-                  | "2 threads, by body"] [--keep FOLDER] [--analyse FOLDER]
+                  | "2 threads, by body" | "2 threads, again"] [--keep FOLDER]
+          [--setup-order random|given] [--analyse FOLDER]
   --steps: steps of each 2-core run; the turns go on until every run ended
     (a round counts where both 2-core runs had a window with steps).
   --also: a further run (repeatable), each against 2 threads as 2 ranks are:
     2 ranks with mpirun --bind-to none (Open MPI binds 2 ranks to a core
     each by default; the threads are not bound), with Load balancing =
     measured or claimed (the default for two bodies, automatic, is shared
-    memory on one node), 2 threads with Thread partition = by body.
+    memory on one node), 2 threads with Thread partition = by body, 2
+    threads again in processes of their own (how far two runs of one
+    configuration differ).
+  --setup-order: random (default) or as given (2 threads, 2 ranks, the
+    --also runs, 1 x 1): a run set up later was up to 12 % faster than the
+    same configuration set up first.
   --keep: the runs' folder (windows.json, each run's step_times.csv), kept;
     --analyse FOLDER prints its table again.
 The table also counts each run's stalls: steps whose rest (outside the
@@ -40,6 +46,7 @@ per step."""
 import argparse
 import json
 import os
+import random
 import re
 import signal
 import statistics
@@ -60,7 +67,10 @@ CONFIGS = {"2 threads": (1, 2, [], {}), "2 ranks": (2, 1, [], {}), "1 x 1": (1, 
            "2 ranks, unbound": (2, 1, ["--bind-to", "none"], {}),
            "2 ranks, measured": (2, 1, [], {"Parallel/Load balancing": "measured"}),
            "2 ranks, claimed": (2, 1, [], {"Parallel/Load balancing": "claimed"}),
-           "2 threads, by body": (1, 2, [], {"Parallel/Thread partition": "by body"})}
+           "2 threads, by body": (1, 2, [], {"Parallel/Thread partition": "by body"}),
+           # The same as 2 threads in processes of their own: how far two
+           # runs of one configuration differ (an A/A comparison).
+           "2 threads, again": (1, 2, [], {})}
 
 
 def scene(method, level, steps, work, name, edits):
@@ -183,6 +193,8 @@ def main():
     parser.add_argument("--also", action="append", default=[],
                         choices=[label for label in CONFIGS if "," in label],
                         help="a further run, against 2 threads too")
+    parser.add_argument("--setup-order", choices=["random", "given"], default="random",
+                        help="the order in which the runs are set up")
     parser.add_argument("--analyse", metavar="FOLDER",
                         help="only the table of the runs kept in FOLDER")
     args = parser.parse_args()
@@ -193,14 +205,20 @@ def main():
     work = args.keep or tempfile.mkdtemp(prefix="alternating_")
     os.makedirs(work, exist_ok=True)
     labels = ["2 threads", "2 ranks"] + args.also + (["1 x 1"] if args.serial else [])
+    # The set-up's order: a run set up later was up to 12 % faster than the
+    # same configuration set up first (doc/parallel.md, session 50).
+    setup_order = list(labels)
+    if args.setup_order == "random":
+        random.shuffle(setup_order)
     runs = []
-    for label in labels:
+    for label in setup_order:
         name = label.replace(" ", "_").replace(",", "")
         steps = args.steps // 2 if label == "1 x 1" else args.steps
         runs.append(Run(label, program, scene(args.method, args.level, steps, work,
                                               name, CONFIGS[label][3]), work))
         runs[-1].set_up()  # held at its first steps
         print(f"{label}: set up, held", flush=True)
+    runs.sort(key=lambda run: labels.index(run.label))  # the turns' order
     turns = 0
     while any(run.process.poll() is None for run in runs):
         order = runs if turns % 2 == 0 else runs[::-1]
@@ -212,7 +230,7 @@ def main():
             sys.exit(f"{run.label} failed:\n" + open(run.log.name).read()[-2000:])
     with open(os.path.join(work, "windows.json"), "w") as record:
         json.dump({"method": args.method, "steps": args.steps, "window": args.window,
-                   "rounds": turns,
+                   "rounds": turns, "setup_order": setup_order,
                    "runs": {run.label: {"out": run.out, "windows": run.windows}
                             for run in runs}}, record, indent=1)
     analyse(work)
@@ -224,6 +242,8 @@ def analyse(work):
     record = json.load(open(os.path.join(work, "windows.json")))
     print(f"{record['method']}, {record['steps']} steps per 2-core run, windows of "
           f"{record['window']} s, {record['rounds']} rounds; runs in {work}")
+    if "setup_order" in record:
+        print("set up in the order: " + ", ".join(record["setup_order"]))
     steps = {label: window_steps(run["out"], run["windows"])
              for label, run in record["runs"].items()}
     # Each window's mean step and mean time in the passes (None if empty).
