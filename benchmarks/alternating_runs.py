@@ -14,7 +14,10 @@ over that of 2 threads (the windows' order alternates between rounds); the
 table gives their median and its distribution-free interval (the sign
 test's, as mpi_step_cost.py), and in how many rounds 2 ranks were no
 slower. With --serial, also 1 rank x 1 thread, for the speed-up (its run
-has half the steps).
+has half the steps). Two processes of one configuration kept speeds up to
+12 % apart for a whole run (`--also "2 threads, again"`, doc/parallel.md,
+session 50): one run decides nothing; the sign of the ratio over several
+runs does.
 
 The scene: the Hertz benchmark, prm/hertz_fea_hrz.prm at Global
 refinements 7 or prm/hertz_iga_hrz.prm at 8 (about 1e6 unknowns), the time
