@@ -61,7 +61,7 @@ import time
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(root, "benchmarks"))
 sys.path.insert(0, os.path.join(root, "tests", "scripts"))
-from mpi_step_cost import CASES, median_interval  # noqa: E402
+from mpi_step_cost import CASES, median_interval, program_processes  # noqa: E402
 from testing import edit_prm  # noqa: E402
 
 # label: ranks, threads, mpirun's options, the scene's parameters.
@@ -91,37 +91,10 @@ def scene(method, level, steps, work, name, edits):
                      "Output/Step times": "true", **edits})
 
 
-def program_processes(top_pid, program):
-    """The processes of `program` among the descendants of top_pid."""
-    parents = {}
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                with open(f"/proc/{entry}/stat") as stat:
-                    parents[int(entry)] = int(stat.read().rsplit(")", 1)[1].split()[1])
-            except (OSError, IndexError, ValueError):
-                pass
-    name = os.path.basename(program)[:15]
-    found = []
-    for pid in parents:
-        ancestor = pid
-        while ancestor in parents and ancestor != top_pid:
-            ancestor = parents[ancestor]
-        if ancestor != top_pid and pid != top_pid:
-            continue
-        try:
-            with open(f"/proc/{pid}/comm") as comm:
-                if comm.read().strip() == name:
-                    found.append(pid)
-        except OSError:
-            pass
-    return found
-
-
 class Run:
     def __init__(self, label, program, prm, work):
         ranks, threads, options, _ = CONFIGS[label]
-        self.label, self.work = label, work
+        self.label = label
         self.out = os.path.join(work, os.path.splitext(os.path.basename(prm))[0])
         self.log = open(self.out + ".log", "w")
         command = [program, prm]

@@ -126,35 +126,46 @@ def benchmark_prm(prm, level, steps, work, mass="HRZ", variant=None):
                      "Mass matrix/Scheme": mass})
 
 
+def program_processes(top_pid, program):
+    """The processes of `program` (by name) among top_pid and its
+    descendants."""
+    parents = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as stat:
+                    parents[int(entry)] = int(stat.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                pass
+    name = os.path.basename(program)[:15]
+    found = []
+    for pid in parents:
+        ancestor = pid
+        while ancestor in parents and ancestor != top_pid:
+            ancestor = parents[ancestor]
+        if ancestor != top_pid:
+            continue
+        try:
+            with open(f"/proc/{pid}/comm") as comm:
+                if comm.read().strip() == name:
+                    found.append(pid)
+        except OSError:
+            pass
+    return found
+
+
 def peak_anonymous_memory(top_pid, program, stop, peaks):
     """Polls the RssAnon of every process of `program` below top_pid until
     `stop` is set; peaks[pid] is the largest value seen (bytes)."""
-    name = os.path.basename(program)[:15]
     while not stop.is_set():
-        parents = {}
-        for entry in os.listdir("/proc"):
-            if entry.isdigit():
-                try:
-                    with open(f"/proc/{entry}/stat") as stat:
-                        fields = stat.read().rsplit(")", 1)[1].split()
-                    parents[int(entry)] = int(fields[1])
-                except (OSError, IndexError, ValueError):
-                    pass
-        for pid in parents:
-            ancestor = pid
-            while ancestor in parents and ancestor != top_pid:
-                ancestor = parents[ancestor]
-            if ancestor != top_pid:
-                continue
+        for pid in program_processes(top_pid, program):
             try:
                 with open(f"/proc/{pid}/status") as status:
-                    text = status.read()
+                    anon = re.search(r"^RssAnon:\s*(\d+) kB", status.read(), re.M)
             except OSError:
                 continue
-            if re.search(r"^Name:\s*" + re.escape(name) + r"$", text, re.M):
-                anon = re.search(r"^RssAnon:\s*(\d+) kB", text, re.M)
-                if anon:
-                    peaks[pid] = max(peaks.get(pid, 0), int(anon.group(1)) * 1024)
+            if anon:
+                peaks[pid] = max(peaks.get(pid, 0), int(anon.group(1)) * 1024)
         time.sleep(0.25)
 
 
