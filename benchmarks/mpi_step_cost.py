@@ -24,7 +24,11 @@ least), and the memory per process:
   than the others (read every 20 ms it took about 8 % of a core). A
   transient shorter than 0.25 s, such as the initial acceleration's
   product, may be missed; heaptrack gives the exact peak heap,
-  doc/parallel.md.
+  doc/parallel.md;
+- the same with the shared memory's share (Pss_Anon + Pss_Shmem of
+  /proc/PID/smaps_rollup, polled alike): the windows both ranks map (the
+  bodies' state with Load balancing = shared memory, Open MPI's segments)
+  count half per rank, which RssAnon leaves out.
 
 usage: python3 benchmarks/mpi_step_cost.py [--quick | --fine] [--repeats 3] [--steps 200]
                                           [--build build] [--mass HRZ|consistent] [--claimed]
@@ -155,17 +159,25 @@ def program_processes(top_pid, program):
 
 
 def peak_anonymous_memory(top_pid, program, stop, peaks):
-    """Polls the RssAnon of every process of `program` below top_pid until
-    `stop` is set; peaks[pid] is the largest value seen (bytes)."""
+    """Polls every process of `program` below top_pid until `stop` is set;
+    peaks[pid] is the largest value seen (bytes) of its RssAnon and of its
+    Pss_Anon + Pss_Shmem (/proc/PID/smaps_rollup: the shared memory's pages
+    counted in shares, half per rank where 2 ranks map them)."""
     while not stop.is_set():
         for pid in program_processes(top_pid, program):
             try:
                 with open(f"/proc/{pid}/status") as status:
                     anon = re.search(r"^RssAnon:\s*(\d+) kB", status.read(), re.M)
+                with open(f"/proc/{pid}/smaps_rollup") as rollup:
+                    text = rollup.read()
+                shares = [re.search(rf"^{field}:\s*(\d+) kB", text, re.M)
+                          for field in ("Pss_Anon", "Pss_Shmem")]
             except OSError:
                 continue
-            if anon:
-                peaks[pid] = max(peaks.get(pid, 0), int(anon.group(1)) * 1024)
+            if anon and all(shares):
+                old = peaks.get(pid, (0, 0))
+                peaks[pid] = (max(old[0], int(anon.group(1)) * 1024),
+                              max(old[1], sum(int(m.group(1)) for m in shares) * 1024))
         time.sleep(0.25)
 
 
@@ -216,7 +228,9 @@ def run(program, prm, work, ranks, threads, poll_memory=False):
                if ranks == 2 else [])
     return (loop / steps,
             max(rss) if rss else float("nan"),
-            max(anonymous.values()) if anonymous else float("nan"), summary["unknowns"],
+            (max(a for a, _ in anonymous.values()) if anonymous else float("nan"),
+             max(p for _, p in anonymous.values()) if anonymous else float("nan")),
+            summary["unknowns"],
             summary.get("rank_splits", []),
             [w / summary["steps"] for w in summary.get("mpi_wait_s_per_rank", [])],
             outside, initial, passes)
@@ -356,8 +370,9 @@ def main():
           "| step with the initial acceleration's share [ms] (median) "
           "| passes per step [ms] (median) | outside the passes per step [ms] (median) "
           "| peak memory per process [MB] | memory vs 1 x 1 "
-          "| peak anonymous memory per process [MB] | anonymous vs 1 x 1 |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "| peak anonymous memory per process [MB] | anonymous vs 1 x 1 "
+          "| peak anonymous and shared memory's share per process [MB] | the same vs 1 x 1 |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     notes = []
     with tempfile.TemporaryDirectory() as work:
         for method, (prm, levels) in {**CASES, **NAMED_ONLY}.items():
@@ -406,8 +421,11 @@ def main():
                           f"{1e3 * statistics.median(t - p for t, p in zip(times[name], passes[name])):.3f} | "
                           f"{memory[name] / 1e6:.0f} | "
                           f"{memory[name] / memory[CONFIGS[0][0]]:.2f} | "
-                          f"{anonymous[name] / 1e6:.0f} | "
-                          f"{anonymous[name] / anonymous[CONFIGS[0][0]]:.2f} |", flush=True)
+                          f"{anonymous[name][0] / 1e6:.0f} | "
+                          f"{anonymous[name][0] / anonymous[CONFIGS[0][0]][0]:.2f} | "
+                          f"{anonymous[name][1] / 1e6:.0f} | "
+                          f"{anonymous[name][1] / anonymous[CONFIGS[0][0]][1]:.2f} |",
+                          flush=True)
                 # Against 2 threads, run by run (same round, one after the
                 # other): each other configuration's step over theirs.
                 threads = CONFIGS[1][0]
