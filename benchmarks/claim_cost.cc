@@ -3,9 +3,9 @@
 // of a counter in a window of MPI-3 shared memory that the node's ranks map,
 // timed two ways, one after the other, between barriers, every rank at once:
 // - MPI_Fetch_and_op with MPI_Win_flush (in a passive epoch, lock_all), as
-//   the claims were made up to session 45;
+//   the claims were made up to session 50 (but for session 46);
 // - the processor's atomic add on the mapped counter (__atomic_fetch_add),
-//   as they are made since.
+//   as they are made since session 51.
 // With one rank the counter stays in its core's cache; with two both ranks
 // claim all the time, the worst case (in a pass they claim side by side
 // only where they meet in a band). Printed per rank: ns per claim, the

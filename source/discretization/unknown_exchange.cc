@@ -99,14 +99,17 @@ namespace isoimpact
 
   // The claims' counter: one integer in rank 0's memory, which both ranks
   // of a node map (MPI_Win_allocate_shared), in a passive epoch for the
-  // whole run; atomic increments (MPI_Fetch_and_op). Beside it each rank's
-  // count of passes, and with Load balancing = shared memory the body's
-  // state (a second window), read and written in place.
+  // whole run; atomic increments where it is mapped (a compiler atomic:
+  // MPI_Fetch_and_op with its flush took 0.16-0.63 us per claim in a
+  // pass, this 0.09-0.16: doc/parallel.md, session 51). On the next cache
+  // line each rank's count of passes, and with Load balancing = shared
+  // memory the body's state (a second window), read and written in place.
   struct UnknownExchange::ClaimWindow
   {
     MPI_Comm   node         = MPI_COMM_NULL;
     MPI_Win    window       = MPI_WIN_NULL;
     MPI_Win    state_window = MPI_WIN_NULL;
+    long long *counter      = nullptr; // the claims'
     long long *passes       = nullptr; // one per rank
     double    *state        = nullptr;
     // Sums over the ranks of at most sum_capacity values (start_sum()):
@@ -154,9 +157,9 @@ namespace isoimpact
                              " MB are free; use Parallel/Load balancing = "
                              "measured, or a larger /dev/shm (docker run "
                              "--shm-size)"));
-      // The claims' counter at displacement 0 (MPI_Fetch_and_op), the
-      // passes' counts, the sums' counts and values from the third cache
-      // line (the claims' counter changes all through a pass).
+      // The claims' counter at displacement 0, the passes' counts on the
+      // second cache line, the sums' counts and values from the third (the
+      // claims' counter changes all through a pass).
       constexpr std::size_t n_counters = 16 + 4 + 2 * sum_slots * sum_capacity;
       long long            *counters   = nullptr;
       int ierr = MPI_Win_allocate_shared(rank == 0 ? n_counters * 8 : 0,
@@ -170,7 +173,8 @@ namespace isoimpact
       int      unit = 0;
       ierr          = MPI_Win_shared_query(window, 0, &size, &unit, &counters);
       AssertThrowMPI(ierr);
-      passes            = counters + 1;
+      counter           = counters;
+      passes            = counters + 8;
       sums_started_by   = counters + 16;
       sums_completed_by = counters + 18;
       sum_values        = reinterpret_cast<double *>(counters + 20);
@@ -243,14 +247,7 @@ namespace isoimpact
     long long
     fetch_and_increment() const
     {
-      const long long one = 1;
-      long long       previous;
-      int             ierr =
-        MPI_Fetch_and_op(&one, &previous, MPI_LONG_LONG, 0, 0, MPI_SUM, window);
-      AssertThrowMPI(ierr);
-      ierr = MPI_Win_flush(0, window);
-      AssertThrowMPI(ierr);
-      return previous;
+      return __atomic_fetch_add(counter, 1LL, __ATOMIC_ACQ_REL);
     }
   };
 
