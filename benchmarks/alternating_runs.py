@@ -28,7 +28,7 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
           [--level L] [--steps 6000] [--window 1.0] [--build build] [--serial]
           [--also "2 ranks, unbound" | "2 ranks, measured" | "2 ranks, claimed"
                   | "2 threads, by body" | "2 threads, again"] [--keep FOLDER]
-          [--setup-order random|given] [--analyse FOLDER]
+          [--setup-order random|given] [--analyse FOLDER] [--against LABEL]
   --steps: steps of each 2-core run; the turns go on until every run ended
     (a round counts where both 2-core runs had a window with steps).
   --also: a further run (repeatable), each against 2 threads as 2 ranks are:
@@ -43,6 +43,8 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
     same configuration set up first.
   --keep: the runs' folder (windows.json, each run's step_times.csv), kept;
     --analyse FOLDER prints its table again.
+  --against: the run the others are compared with, round by round
+    (default 2 threads; e.g. --analyse FOLDER --against "2 ranks").
 The table also counts each run's stalls: steps whose rest (outside the
 passes) exceeds the run's median rest by more than 1 ms, and what they add
 per step."""
@@ -173,14 +175,18 @@ def main():
                         help="the order in which the runs are set up")
     parser.add_argument("--analyse", metavar="FOLDER",
                         help="only the table of the runs kept in FOLDER")
+    parser.add_argument("--against", default="2 threads", metavar="LABEL",
+                        help="the run the others are compared with (default: 2 threads)")
     args = parser.parse_args()
     if args.analyse:
-        analyse(args.analyse)
+        analyse(args.analyse, args.against)
         return
     program = os.path.join(args.build, "isoimpact")
     work = args.keep or tempfile.mkdtemp(prefix="alternating_")
     os.makedirs(work, exist_ok=True)
     labels = ["2 threads", "2 ranks"] + args.also + (["1 x 1"] if args.serial else [])
+    if args.against not in labels:
+        parser.error(f"--against {args.against!r}: not among the runs ({', '.join(labels)})")
     # The set-up's order: a run set up later was up to 12 % faster than the
     # same configuration set up first (doc/parallel.md, session 50).
     setup_order = list(labels)
@@ -209,12 +215,12 @@ def main():
                    "rounds": turns, "setup_order": setup_order,
                    "runs": {run.label: {"out": run.out, "windows": run.windows}
                             for run in runs}}, record, indent=1)
-    analyse(work)
+    analyse(work, args.against)
 
 
-def analyse(work):
+def analyse(work, against="2 threads"):
     """The table of the runs in `work` (windows.json and the runs'
-    step_times.csv)."""
+    step_times.csv), each run against the run `against`."""
     record = json.load(open(os.path.join(work, "windows.json")))
     print(f"{record['method']}, {record['steps']} steps per 2-core run, windows of "
           f"{record['window']} s, {record['rounds']} rounds; runs in {work}")
@@ -255,14 +261,16 @@ def analyse(work):
             text += f", above 0 in {sum(v > 0 for v in values)} of {len(values)}"
         print(text)
 
-    for label in [label for label in means if label not in ("2 threads", "1 x 1")]:
-        pairs = [(a, b) for a, b in zip(means["2 threads"], means[label]) if a and b]
+    if against not in means:
+        sys.exit(f"no run {against!r} in {work}: {', '.join(means)}")
+    for label in [label for label in means if label not in (against, "1 x 1")]:
+        pairs = [(a, b) for a, b in zip(means[against], means[label]) if a and b]
         if not pairs:
             continue
-        print(f"{label} against 2 threads, round by round ({len(pairs)} rounds):")
-        describe("  step, over 2 threads'", [b[0] / a[0] for a, b in pairs])
-        describe("  passes, over 2 threads'", [b[1] / a[1] for a, b in pairs])
-        describe("  rest, less 2 threads' [ms]",
+        print(f"{label} against {against}, round by round ({len(pairs)} rounds):")
+        describe(f"  step, over {against}'", [b[0] / a[0] for a, b in pairs])
+        describe(f"  passes, over {against}'", [b[1] / a[1] for a, b in pairs])
+        describe(f"  rest, less {against}' [ms]",
                  [1e3 * ((b[0] - b[1]) - (a[0] - a[1])) for a, b in pairs], False)
     if "1 x 1" in means:
         speedups = [a[0] / b[0] for a, b in zip(means["1 x 1"], means["2 ranks"]) if a and b]
