@@ -28,7 +28,8 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
           [--level L] [--steps 6000] [--window 1.0] [--build build] [--serial]
           [--also "2 ranks, unbound" | "2 ranks, measured" | "2 ranks, claimed"
                   | "2 threads, by body" | "2 threads, again"] [--keep FOLDER]
-          [--setup-order random|given] [--analyse FOLDER] [--against LABEL]
+          [--variant NAME=VARIABLE=VALUE] [--setup-order random|given]
+          [--analyse FOLDER] [--against LABEL]
   --steps: steps of each 2-core run; the turns go on until every run ended
     (a round counts where both 2-core runs had a window with steps).
   --also: a further run (repeatable), each against 2 threads as 2 ranks are:
@@ -38,6 +39,9 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
     memory on one node), 2 threads with Thread partition = by body, 2
     threads again in processes of their own (how far two runs of one
     configuration differ).
+  --variant: a further 2-rank run whose ranks see VARIABLE=VALUE (mpirun
+    -x), labelled "2 ranks, NAME": for a switch of a throw-away build, e.g.
+    the trace patch of benchmarks/traces/ (--variant "wide band=ISOIMPACT_BAND=0.95").
   --setup-order: random (default) or as given (2 threads, 2 ranks, the
     --also runs, 1 x 1): a run set up later was up to 12 % faster than the
     same configuration set up first.
@@ -171,6 +175,10 @@ def main():
     parser.add_argument("--also", action="append", default=[],
                         choices=[label for label in CONFIGS if "," in label],
                         help="a further run, against 2 threads too")
+    parser.add_argument("--variant", action="append", default=[],
+                        metavar="NAME=VARIABLE=VALUE",
+                        help="a further 2-rank run with an environment variable "
+                             "(mpirun -x), labelled '2 ranks, NAME' (repeatable)")
     parser.add_argument("--setup-order", choices=["random", "given"], default="random",
                         help="the order in which the runs are set up")
     parser.add_argument("--analyse", metavar="FOLDER",
@@ -184,7 +192,15 @@ def main():
     program = os.path.join(args.build, "isoimpact")
     work = args.keep or tempfile.mkdtemp(prefix="alternating_")
     os.makedirs(work, exist_ok=True)
-    labels = ["2 threads", "2 ranks"] + args.also + (["1 x 1"] if args.serial else [])
+    variants = []
+    for variant in args.variant:
+        name, _, setting = variant.partition("=")
+        if not name or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*=.*", setting):
+            parser.error(f"--variant {variant!r}: expected NAME=VARIABLE=VALUE")
+        CONFIGS[f"2 ranks, {name}"] = (2, 1, ["-x", setting], {})
+        variants.append(f"2 ranks, {name}")
+    labels = (["2 threads", "2 ranks"] + args.also + variants
+              + (["1 x 1"] if args.serial else []))
     if args.against not in labels:
         parser.error(f"--against {args.against!r}: not among the runs ({', '.join(labels)})")
     # The set-up's order: a run set up later was up to 12 % faster than the
