@@ -197,6 +197,8 @@ def main():
         name, _, setting = variant.partition("=")
         if not name or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*=.*", setting):
             parser.error(f"--variant {variant!r}: expected NAME=VARIABLE=VALUE")
+        if f"2 ranks, {name}" in CONFIGS:
+            parser.error(f"--variant {variant!r}: the run '2 ranks, {name}' exists already")
         CONFIGS[f"2 ranks, {name}"] = (2, 1, ["-x", setting], {})
         variants.append(f"2 ranks, {name}")
     labels = (["2 threads", "2 ranks"] + args.also + variants

@@ -12,7 +12,8 @@ alternating_runs.py), and how many of them had another task on a core for
 at least half the stall.
 
 Needs root (it mounts tracefs at /sys/kernel/tracing if it is not there);
-the trace is cleared and its events switched off again afterwards. The
+the trace is cleared, its events switched off and its clock and buffer
+size restored afterwards. The
 command's output goes to stderr, the report to stdout.
 
 usage: python3 benchmarks/scheduler_trace.py [--program isoimpact]
@@ -47,6 +48,10 @@ def record(command):
     if not os.path.exists(os.path.join(TRACING, "trace")):
         subprocess.run(["mount", "-t", "tracefs", "nodev", TRACING], check=True)
     write("tracing_on", "0")
+    with open(os.path.join(TRACING, "trace_clock")) as f:
+        clock = re.search(r"\[(\w+)\]", f.read())[1]
+    with open(os.path.join(TRACING, "buffer_size_kb")) as f:
+        size = f.read().split()[0]
     write("trace_clock", "mono")
     write("buffer_size_kb", "16384")
     write("trace", "")
@@ -64,6 +69,8 @@ def record(command):
         for event in EVENTS:
             write(f"events/sched/{event}/enable", "0")
         write("trace", "")
+        write("trace_clock", clock)
+        write("buffer_size_kb", size)
     return code, text
 
 
@@ -110,6 +117,9 @@ def main():
     begin = min(s[2] for s in stretches)
     end = max(s[3] for s in stretches)
     if args.steps:
+        if not os.path.exists(args.steps):
+            sys.exit(f"--steps {args.steps}: no such file after the command "
+                     f"(exit code {code}); Output/Step times = true writes it")
         with open(args.steps) as table:
             next(table)
             rows = [[float(x) for x in line.split(",")] for line in table]
