@@ -148,13 +148,26 @@ class Run:
 
 
 
+def step_times(path):
+    """The rows of a step_times.csv (step, time, monotonic clock, passes)."""
+    with open(path) as table:
+        next(table)
+        return [[float(x) for x in line.split(",")] for line in table]
+
+
+def stalls(rest):
+    """The median of `rest` (each step's time outside the passes [s]) and
+    the stalls: (step's index, excess over the median [s]) where the excess
+    is more than 1 ms."""
+    middle = statistics.median(rest)
+    return middle, [(k, r - middle) for k, r in enumerate(rest) if r > middle + 1e-3]
+
+
 def window_steps(out, windows):
     """The steps (duration, time in the passes) [s] that began and ended
     inside each window, from out/step_times.csv, the first step of each
     left out (the caches after the other run)."""
-    with open(os.path.join(out, "step_times.csv")) as table:
-        next(table)
-        rows = [[float(x) for x in line.split(",")] for line in table]
+    rows = step_times(os.path.join(out, "step_times.csv"))
     steps = []
     for resumed, held in windows:
         inside = [(b[2] - a[2], b[3]) for a, b in zip(rows, rows[1:])
@@ -256,17 +269,16 @@ def analyse(work, against="2 threads"):
     for label, values in means.items():
         values = [x for x in values if x]
         if values:
-            every = [1e3 * (s - p) for window in steps[label] for s, p in window]
-            middle = statistics.median(every)
-            stalls = [r - middle for r in every if r > middle + 1]
+            every = [s - p for window in steps[label] for s, p in window]
+            excess = [1e3 * e for _, e in stalls(every)[1]]
             print(f"  {label}: {statistics.median(1e3 * s for s, _ in values):.3f}; "
                   f"{statistics.median(1e3 * p for _, p in values):.3f}; "
                   f"{statistics.median(1e3 * (s - p) for s, p in values):.3f} "
-                  f"({len(values)} windows); stalls {len(stalls)} of {len(every)} steps, "
-                  f"{sum(stalls) / len(every):.3f} ms per step"
-                  + (f", each {min(stalls):.1f}-{max(stalls):.1f} ms (quartiles "
-                     f"{' '.join(f'{q:.1f}' for q in statistics.quantiles(stalls))})"
-                     if len(stalls) > 1 else ""))
+                  f"({len(values)} windows); stalls {len(excess)} of {len(every)} steps, "
+                  f"{sum(excess) / len(every):.3f} ms per step"
+                  + (f", each {min(excess):.1f}-{max(excess):.1f} ms (quartiles "
+                     f"{' '.join(f'{q:.1f}' for q in statistics.quantiles(excess))})"
+                     if len(excess) > 1 else ""))
 
     def describe(what, values, unit_is_ratio=True):
         interval = median_interval(values, 0.95)

@@ -25,9 +25,11 @@ import argparse
 import collections
 import os
 import re
-import statistics
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from alternating_runs import stalls, step_times  # noqa: E402
 
 TRACING = "/sys/kernel/tracing"
 EVENTS = ["sched_switch"]
@@ -120,9 +122,7 @@ def main():
         if not os.path.exists(args.steps):
             sys.exit(f"--steps {args.steps}: no such file after the command "
                      f"(exit code {code}); Output/Step times = true writes it")
-        with open(args.steps) as table:
-            next(table)
-            rows = [[float(x) for x in line.split(",")] for line in table]
+        rows = step_times(args.steps)
         begin, end = rows[0][2], rows[-1][2]
 
     def program(task):
@@ -157,12 +157,10 @@ def main():
               f"{long_runs[task]}")
     print(f"  idle, all cores: {1e3 * idle:.1f}")
     if args.steps:
-        rest = [(b[2] - a[2]) - b[3] for a, b in zip(rows, rows[1:])]
-        middle = statistics.median(rest)
-        stalls = [(a[2], b[2], r - middle) for (a, b), r in zip(zip(rows, rows[1:]), rest)
-                  if r > middle + 1e-3]
+        middle, stalled = stalls([(b[2] - a[2]) - b[3] for a, b in zip(rows, rows[1:])])
         by_task, explained = collections.Counter(), 0
-        for a, b, extra in stalls:
+        for k, extra in stalled:
+            a, b = rows[k][2], rows[k + 1][2]
             during = collections.defaultdict(float)
             for cpu, task, s, e, _ in stretches:
                 overlap = min(e, b) - max(s, a)
@@ -172,7 +170,7 @@ def main():
                 explained += 1
                 by_task[max(during, key=during.get)] += 1
         print(f"steps {len(rows) - 1}, median time outside the passes {1e3 * middle:.3f} ms, "
-              f"stalls {len(stalls)}; with another task on a core for at least half the "
+              f"stalls {len(stalled)}; with another task on a core for at least half the "
               f"stall: {explained} ({', '.join(f'{t} {n}' for t, n in by_task.most_common())})")
     sys.exit(code)
 
