@@ -29,7 +29,7 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
           [--also "2 ranks, unbound" | "2 ranks, measured" | "2 ranks, claimed"
                   | "2 threads, by body" | "2 threads, again"] [--keep FOLDER]
           [--variant NAME=VARIABLE=VALUE] [--setup-order random|given]
-          [--analyse FOLDER] [--against LABEL]
+          [--analyse FOLDER] [--against LABEL] [--sampled]
   --steps: steps of each 2-core run; the turns go on until every run ended
     (a round counts where both 2-core runs had a window with steps).
   --also: a further run (repeatable), each against 2 threads as 2 ranks are:
@@ -49,6 +49,11 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
     --analyse FOLDER prints its table again.
   --against: the run the others are compared with, round by round
     (default 2 threads; e.g. --analyse FOLDER --against "2 ranks").
+  --sampled: every core sampled during the turns (perf record -a into
+    FOLDER/samples.data, benchmarks/cpu_samples.py); the table is given
+    again over the quiet steps only: those in which, and in the step before
+    which, no core was taken by another task of the machine or was away
+    (a virtual CPU the host ran something else on). Needs perf and root.
 The table also counts each run's stalls: steps whose rest (outside the
 passes) exceeds the run's median rest by more than 1 ms, and what they add
 per step."""
@@ -163,16 +168,21 @@ def stalls(rest):
     return middle, [(k, r - middle) for k, r in enumerate(rest) if r > middle + 1e-3]
 
 
-def window_steps(out, windows):
+def window_steps(out, windows, overlaps=None):
     """The steps (duration, time in the passes) [s] that began and ended
     inside each window, from out/step_times.csv, the first step of each
-    left out (the caches after the other run)."""
+    left out (the caches after the other run). With `overlaps`
+    (cpu_samples.Overlaps of the turns' samples), only the quiet steps: no
+    core taken in them nor in the step before."""
     rows = step_times(os.path.join(out, "step_times.csv"))
+    if overlaps:
+        from cpu_samples import quiet_steps
+        quiet = quiet_steps(rows, overlaps)
     steps = []
     for resumed, held in windows:
-        inside = [(b[2] - a[2], b[3]) for a, b in zip(rows, rows[1:])
+        inside = [(b[2] - a[2], b[3], k) for k, (a, b) in enumerate(zip(rows, rows[1:]))
                   if a[2] >= resumed and b[2] <= held]
-        steps.append(inside[1:])
+        steps.append([(s, p) for s, p, k in inside[1:] if not overlaps or quiet[k]])
     return steps
 
 
@@ -198,12 +208,16 @@ def main():
                         help="only the table of the runs kept in FOLDER")
     parser.add_argument("--against", default="2 threads", metavar="LABEL",
                         help="the run the others are compared with (default: 2 threads)")
+    parser.add_argument("--sampled", action="store_true",
+                        help="sample every core during the turns (perf, "
+                             "benchmarks/cpu_samples.py): the table again over "
+                             "the quiet steps")
     args = parser.parse_args()
     if args.analyse:
         analyse(args.analyse, args.against)
         return
     program = os.path.join(args.build, "isoimpact")
-    work = args.keep or tempfile.mkdtemp(prefix="alternating_")
+    work = os.path.abspath(args.keep or tempfile.mkdtemp(prefix="alternating_"))
     os.makedirs(work, exist_ok=True)
     variants = []
     for variant in args.variant:
@@ -232,12 +246,18 @@ def main():
         runs[-1].set_up()  # held at its first steps
         print(f"{label}: set up, held", flush=True)
     runs.sort(key=lambda run: labels.index(run.label))  # the turns' order
+    if args.sampled:
+        from cpu_samples import start, stop
+        recorder = start(os.path.join(work, "samples.data"))
+        time.sleep(1)  # perf's set-up
     turns = 0
     while any(run.process.poll() is None for run in runs):
         order = runs if turns % 2 == 0 else runs[::-1]
         for run in order:
             run.turn(args.window)
         turns += 1
+    if args.sampled:
+        stop(recorder)
     for run in runs:
         if run.process.wait() != 0:
             sys.exit(f"{run.label} failed:\n" + open(run.log.name).read()[-2000:])
@@ -249,16 +269,9 @@ def main():
     analyse(work, args.against)
 
 
-def analyse(work, against="2 threads"):
-    """The table of the runs in `work` (windows.json and the runs'
-    step_times.csv), each run against the run `against`."""
-    record = json.load(open(os.path.join(work, "windows.json")))
-    print(f"{record['method']}, {record['steps']} steps per 2-core run, windows of "
-          f"{record['window']} s, {record['rounds']} rounds; runs in {work}")
-    if "setup_order" in record:
-        print("set up in the order: " + ", ".join(record["setup_order"]))
-    steps = {label: window_steps(run["out"], run["windows"])
-             for label, run in record["runs"].items()}
+def compare(steps, against, work):
+    """Each run's windows' medians and stalls, and each run against the run
+    `against` round by round; the windows' means (step, passes) [s]."""
     # Each window's mean step and mean time in the passes (None if empty).
     means = {label: [(statistics.mean(s for s, _ in window),
                       statistics.mean(p for _, p in window)) if window else None
@@ -302,6 +315,28 @@ def analyse(work, against="2 threads"):
         describe(f"  passes, over {against}'", [b[1] / a[1] for a, b in pairs])
         describe(f"  rest, less {against}' [ms]",
                  [1e3 * ((b[0] - b[1]) - (a[0] - a[1])) for a, b in pairs], False)
+    return means
+
+
+def analyse(work, against="2 threads"):
+    """The table of the runs in `work` (windows.json and the runs'
+    step_times.csv), each run against the run `against`."""
+    record = json.load(open(os.path.join(work, "windows.json")))
+    print(f"{record['method']}, {record['steps']} steps per 2-core run, windows of "
+          f"{record['window']} s, {record['rounds']} rounds; runs in {work}")
+    if "setup_order" in record:
+        print("set up in the order: " + ", ".join(record["setup_order"]))
+    steps = {label: window_steps(run["out"], run["windows"])
+             for label, run in record["runs"].items()}
+    means = compare(steps, against, work)
+    samples = os.path.join(work, "samples.data")
+    if os.path.exists(samples):
+        from cpu_samples import Overlaps, disturbances, load
+        overlaps = Overlaps(disturbances(load(samples), "isoimpact"))
+        print("only the quiet steps (no core taken by another task or the host in "
+              "them or the step before; benchmarks/cpu_samples.py):")
+        compare({label: window_steps(run["out"], run["windows"], overlaps)
+                 for label, run in record["runs"].items()}, against, work)
     if "1 x 1" in means:
         speedups = [a[0] / b[0] for a, b in zip(means["1 x 1"], means["2 ranks"]) if a and b]
         if speedups:
