@@ -332,7 +332,22 @@ def analyse(work, against="2 threads"):
     samples = os.path.join(work, "samples.data")
     if os.path.exists(samples):
         from cpu_samples import Overlaps, disturbances, load
-        overlaps = Overlaps(disturbances(load(samples), "isoimpact"))
+        cores = load(samples)
+        taken = disturbances(cores, "isoimpact")
+        overlaps = Overlaps(taken)
+        print("the cores taken during each run's windows, per core [ms per s]:")
+        for label, run in record["runs"].items():
+            span = sum(held - resumed for resumed, held in run["windows"])
+            absent = other = 0.0
+            for resumed, held in run["windows"]:
+                for t in overlaps(resumed, held):
+                    part = min(t[1], held) - max(t[0], resumed)
+                    if t[3] == "absent":
+                        absent += part
+                    else:
+                        other += part
+            print(f"  {label}: away (the host) {1e3 * absent / span / len(cores):.1f}, "
+                  f"other tasks {1e3 * other / span / len(cores):.1f}")
         print("only the quiet steps (no core taken by another task or the host in "
               "them or the step before; benchmarks/cpu_samples.py):")
         compare({label: window_steps(run["out"], run["windows"], overlaps)

@@ -28,6 +28,7 @@ import bisect
 import collections
 import os
 import re
+import shutil
 import signal
 import statistics
 import subprocess
@@ -45,6 +46,8 @@ SAMPLE = re.compile(r"^\s*(?P<task>.+?)\s+(?P<tid>\d+)\s+\[(?P<cpu>\d+)\]\s+(?P<
 
 def start(path, command=None):
     """perf record of every core into `path`, of `command` or until stop()."""
+    if shutil.which("perf") is None:
+        sys.exit("cpu_samples.py: no perf on this machine (Debian: apt-get install linux-perf)")
     return subprocess.Popen(["perf", "record", "-q", "-e", "cpu-clock", "-F", str(RATE),
                              "-a", "-k", "CLOCK_MONOTONIC", "-o", path]
                             + (["--"] + command if command else []),
@@ -76,12 +79,11 @@ def disturbances(cores, program, gap=GAP):
     task's name (one sampling period before each of its samples)."""
     taken = []
     for core, samples in cores.items():
-        for (t0, _), (t1, _) in zip(samples, samples[1:]):
+        for (t0, _), (t1, task) in zip(samples, samples[1:]):
             if t1 - t0 > gap:
                 taken.append((t0, t1, core, "absent"))
-        for t, task in samples:
-            if task not in (program, IDLE):
-                taken.append((t - 1.0 / RATE, t, core, task))
+            elif task not in (program, IDLE):
+                taken.append((max(t0, t1 - 1.0 / RATE), t1, core, task))
     taken.sort()
     return taken
 
@@ -164,6 +166,8 @@ def main():
     rows = None
     if args.steps:
         if not os.path.exists(args.steps):
+            if not args.keep:
+                os.remove(path)
             sys.exit(f"--steps {args.steps}: no such file after the command (exit {code})")
         rows = step_times(args.steps)
     report(load(path), args.program, rows)
