@@ -28,7 +28,8 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
           [--level L] [--steps 6000] [--window 1.0] [--build build] [--serial]
           [--also "2 ranks, unbound" | "2 ranks, measured" | "2 ranks, claimed"
                   | "2 threads, by body" | "2 threads, again"] [--keep FOLDER]
-          [--variant NAME=VARIABLE=VALUE] [--setup-order random|given]
+          [--variant NAME=VARIABLE=VALUE] [--variant-unbound NAME=VARIABLE=VALUE]
+          [--setup-order random|given]
           [--analyse FOLDER] [--against LABEL] [--sampled]
   --steps: steps of each 2-core run; the turns go on until every run ended
     (a round counts where both 2-core runs had a window with steps).
@@ -40,8 +41,10 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
     threads again in processes of their own (how far two runs of one
     configuration differ).
   --variant: a further 2-rank run whose ranks see VARIABLE=VALUE (mpirun
-    -x), labelled "2 ranks, NAME": for a switch of a throw-away build, e.g.
-    the trace patch of benchmarks/traces/ (--variant "wide band=ISOIMPACT_BAND=0.95").
+    -x; several separated by commas), labelled "2 ranks, NAME": for a
+    switch of a throw-away build, e.g.
+    the trace patch of benchmarks/traces/ (--variant "wide band=ISOIMPACT_BAND=0.95");
+    --variant-unbound: the same with mpirun --bind-to none.
   --setup-order: random (default) or as given (2 threads, 2 ranks, the
     --also runs, 1 x 1): a run set up later was up to 12 % faster than the
     same configuration set up first.
@@ -160,6 +163,15 @@ def step_times(path):
         return [[float(x) for x in line.split(",")] for line in table]
 
 
+def wrapped_command(parser, remainder):
+    """The command after `--` of a script that runs one (argparse's
+    REMAINDER); a parser error if there is none."""
+    command = remainder[1:] if remainder[:1] == ["--"] else remainder
+    if not command:
+        parser.error("no command (after --)")
+    return command
+
+
 def stalls(rest):
     """The median of `rest` (each step's time outside the passes [s]) and
     the stalls: (step's index, excess over the median [s]) where the excess
@@ -200,8 +212,12 @@ def main():
                         help="a further run, against 2 threads too")
     parser.add_argument("--variant", action="append", default=[],
                         metavar="NAME=VARIABLE=VALUE",
-                        help="a further 2-rank run with an environment variable "
-                             "(mpirun -x), labelled '2 ranks, NAME' (repeatable)")
+                        help="a further 2-rank run with environment variables "
+                             "(mpirun -x; VARIABLE=VALUE,... for several), labelled "
+                             "'2 ranks, NAME' (repeatable)")
+    parser.add_argument("--variant-unbound", action="append", default=[],
+                        metavar="NAME=VARIABLE=VALUE",
+                        help="as --variant, with mpirun --bind-to none")
     parser.add_argument("--setup-order", choices=["random", "given"], default="random",
                         help="the order in which the runs are set up")
     parser.add_argument("--analyse", metavar="FOLDER",
@@ -220,13 +236,17 @@ def main():
     work = os.path.abspath(args.keep or tempfile.mkdtemp(prefix="alternating_"))
     os.makedirs(work, exist_ok=True)
     variants = []
-    for variant in args.variant:
-        name, _, setting = variant.partition("=")
-        if not name or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*=.*", setting):
-            parser.error(f"--variant {variant!r}: expected NAME=VARIABLE=VALUE")
+    for variant, options in ([(v, []) for v in args.variant]
+                             + [(v, ["--bind-to", "none"]) for v in args.variant_unbound]):
+        name, _, settings = variant.partition("=")
+        settings = settings.split(",")
+        if not name or not all(re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*=.*", setting)
+                               for setting in settings):
+            parser.error(f"--variant {variant!r}: expected NAME=VARIABLE=VALUE[,VARIABLE=VALUE]")
         if f"2 ranks, {name}" in CONFIGS:
             parser.error(f"--variant {variant!r}: the run '2 ranks, {name}' exists already")
-        CONFIGS[f"2 ranks, {name}"] = (2, 1, ["-x", setting], {})
+        CONFIGS[f"2 ranks, {name}"] = (2, 1, [x for setting in settings
+                                              for x in ("-x", setting)] + options, {})
         variants.append(f"2 ranks, {name}")
     labels = (["2 threads", "2 ranks"] + args.also + variants
               + (["1 x 1"] if args.serial else []))

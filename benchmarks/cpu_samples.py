@@ -36,7 +36,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from alternating_runs import stalls, step_times  # noqa: E402
+from alternating_runs import stalls, step_times, wrapped_command  # noqa: E402
 
 RATE = 4000  # samples per second and core
 GAP = 0.75e-3  # [s]: longer than three sampling periods
@@ -158,9 +158,7 @@ def main():
     parser.add_argument("--keep", help="keep perf's data in this file")
     parser.add_argument("command", nargs=argparse.REMAINDER)
     args = parser.parse_args()
-    command = args.command[1:] if args.command[:1] == ["--"] else args.command
-    if not command:
-        parser.error("no command")
+    command = wrapped_command(parser, args.command)
     path = args.keep or tempfile.mktemp(suffix=".perf.data")
     code = start(path, command).wait()
     rows = None

@@ -29,7 +29,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from alternating_runs import stalls, step_times  # noqa: E402
+from alternating_runs import stalls, step_times, wrapped_command  # noqa: E402
 
 TRACING = "/sys/kernel/tracing"
 EVENTS = ["sched_switch"]
@@ -104,9 +104,7 @@ def main():
     parser.add_argument("--keep", help="a file for the raw trace")
     parser.add_argument("command", nargs=argparse.REMAINDER)
     args = parser.parse_args()
-    command = args.command[1:] if args.command[:1] == ["--"] else args.command
-    if not command:
-        parser.error("no command (after --)")
+    command = wrapped_command(parser, args.command)
     if os.geteuid() != 0:
         sys.exit("scheduler_trace.py needs root (tracefs)")
     code, text = record(command)
