@@ -42,9 +42,9 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
     configuration differ).
   --variant: a further 2-rank run whose ranks see VARIABLE=VALUE (mpirun
     -x; several separated by commas), labelled "2 ranks, NAME": for a
-    switch of a throw-away build, e.g.
-    the trace patch of benchmarks/traces/ (--variant "wide band=ISOIMPACT_BAND=0.95");
-    --variant-unbound: the same with mpirun --bind-to none.
+    switch of a throw-away build, e.g. the trace patch of benchmarks/traces/
+    (--variant "wide band=ISOIMPACT_BAND=0.95"); --variant-unbound: the
+    same with mpirun --bind-to none.
   --setup-order: random (default) or as given (2 threads, 2 ranks, the
     --also runs, 1 x 1): a run set up later was up to 12 % faster than the
     same configuration set up first.
@@ -351,23 +351,13 @@ def analyse(work, against="2 threads"):
     means = compare(steps, against, work)
     samples = os.path.join(work, "samples.data")
     if os.path.exists(samples):
-        from cpu_samples import Overlaps, disturbances, load
+        from cpu_samples import Overlaps, disturbances, load, taken_per_core
         cores = load(samples)
-        taken = disturbances(cores, "isoimpact")
-        overlaps = Overlaps(taken)
+        overlaps = Overlaps(disturbances(cores, "isoimpact"))
         print("the cores taken during each run's windows, per core [ms per s]:")
         for label, run in record["runs"].items():
-            span = sum(held - resumed for resumed, held in run["windows"])
-            absent = other = 0.0
-            for resumed, held in run["windows"]:
-                for t in overlaps(resumed, held):
-                    part = min(t[1], held) - max(t[0], resumed)
-                    if t[3] == "absent":
-                        absent += part
-                    else:
-                        other += part
-            print(f"  {label}: away (the host) {1e3 * absent / span / len(cores):.1f}, "
-                  f"other tasks {1e3 * other / span / len(cores):.1f}")
+            away, other = taken_per_core(overlaps, run["windows"], len(cores))
+            print(f"  {label}: away (the host) {1e3 * away:.1f}, other tasks {1e3 * other:.1f}")
         print("only the quiet steps (no core taken by another task or the host in "
               "them or the step before; benchmarks/cpu_samples.py):")
         compare({label: window_steps(run["out"], run["windows"], overlaps)

@@ -102,6 +102,21 @@ class Overlaps:
         return [t for t in self.taken[first:last] if t[1] > begin and t[0] < end]
 
 
+def taken_per_core(overlaps, spans, n_cores):
+    """The share of time [s per s and core] the cores were away and with
+    other tasks over `spans` (begin, end)."""
+    away = other = 0.0
+    for begin, end in spans:
+        for t in overlaps(begin, end):
+            part = min(t[1], end) - max(t[0], begin)
+            if t[3] == "absent":
+                away += part
+            else:
+                other += part
+    total = n_cores * sum(end - begin for begin, end in spans)
+    return away / total, other / total
+
+
 def quiet_steps(rows, overlaps):
     """For each step of step_times.csv's rows after the first (the loop's
     start): whether no core was taken in it nor in the step before it."""
