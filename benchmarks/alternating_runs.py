@@ -59,7 +59,11 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
     (a virtual CPU the host ran something else on). Needs perf and root.
 The table also counts each run's stalls: steps whose rest (outside the
 passes) exceeds the run's median rest by more than 1 ms, and what they add
-per step."""
+per step; and its slow steps: steps more than 1 ms longer than the median
+of the 50 steps around them, and what they add per step. Only the latter
+compare 2 ranks with 2 threads: a thread that waits for the other's last
+block waits in the pass, a rank that waits for the other's pass in the
+rest (doc/parallel.md, session 53)."""
 import argparse
 import json
 import os
@@ -180,6 +184,19 @@ def stalls(rest):
     return middle, [(k, r - middle) for k, r in enumerate(rest) if r > middle + 1e-3]
 
 
+def slow_steps(durations, neighbours=25):
+    """The slow steps of `durations` (consecutive steps [s]): (step's index,
+    excess [s]) where a step is more than 1 ms longer than the median of
+    the steps around it (`neighbours` on either side): the step's time
+    drifts over a run."""
+    found = []
+    for k, d in enumerate(durations):
+        middle = statistics.median(durations[max(0, k - neighbours):k + neighbours + 1])
+        if d > middle + 1e-3:
+            found.append((k, d - middle))
+    return found
+
+
 def window_steps(out, windows, overlaps=None):
     """The steps (duration, time in the passes) [s] that began and ended
     inside each window, from out/step_times.csv, the first step of each
@@ -298,12 +315,16 @@ def compare(steps, against, work):
                      for window in windows]
              for label, windows in steps.items()}
     print("the windows' medians [ms per step]: step; passes; rest. Stalls: the steps "
-          "whose rest exceeds the run's median rest by more than 1 ms")
+          "whose rest exceeds the run's median rest by more than 1 ms; slow steps: "
+          "those more than 1 ms longer than the median of the 50 steps around them "
+          "(within the window)")
     for label, values in means.items():
         values = [x for x in values if x]
         if values:
             every = [s - p for window in steps[label] for s, p in window]
             excess = [1e3 * e for _, e in stalls(every)[1]]
+            slow = [1e3 * e for window in steps[label]
+                    for _, e in slow_steps([s for s, _ in window])]
             print(f"  {label}: {statistics.median(1e3 * s for s, _ in values):.3f}; "
                   f"{statistics.median(1e3 * p for _, p in values):.3f}; "
                   f"{statistics.median(1e3 * (s - p) for s, p in values):.3f} "
@@ -311,7 +332,8 @@ def compare(steps, against, work):
                   f"{sum(excess) / len(every):.3f} ms per step"
                   + (f", each {min(excess):.1f}-{max(excess):.1f} ms (quartiles "
                      f"{' '.join(f'{q:.1f}' for q in statistics.quantiles(excess))})"
-                     if len(excess) > 1 else ""))
+                     if len(excess) > 1 else "")
+                  + f"; slow steps {len(slow)}, {sum(slow) / len(every):.3f} ms per step")
 
     def describe(what, values, unit_is_ratio=True):
         interval = median_interval(values, 0.95)

@@ -14,8 +14,9 @@ clock) each step is quiet if neither touched it nor the step before it
 (the ranks need not meet at every step, so a core taken in one step may
 delay the next); the report gives the mean step and passes over all steps
 and over the quiet ones, and which of the stalls (alternating_runs.py: rest
-more than 1 ms over the run's median) had another task, an absent core,
-both or neither.
+more than 1 ms over the run's median) and of the slow steps (more than 1
+ms longer than the median of the 50 steps around them) had another task,
+an absent core, both or neither.
 
 Needs perf (Debian: linux-perf) and root or kernel.perf_event_paranoid <= 0
 for -a. The command's output goes to stderr, the report to stdout.
@@ -36,7 +37,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from alternating_runs import stalls, step_times, wrapped_command  # noqa: E402
+from alternating_runs import slow_steps, stalls, step_times, wrapped_command  # noqa: E402
 
 RATE = 4000  # samples per second and core
 GAP = 0.75e-3  # [s]: longer than three sampling periods
@@ -155,15 +156,20 @@ def report(cores, program, rows=None):
             print(f"  {what} steps: {len(chosen)}, mean step "
                   f"{1e3 * statistics.mean(s[0] for s in chosen):.3f} ms, passes "
                   f"{1e3 * statistics.mean(s[1] for s in chosen):.3f} ms")
-    kinds = collections.Counter()
-    for k, excess in stalls([s[0] - s[1] for s in steps])[1]:
-        found = overlaps(rows[k + 1][2], rows[k + 2][2])
-        absent = any(t[3] == "absent" for t in found)
-        other = any(t[3] != "absent" for t in found)
-        kinds[("another task" if other else "") + (" and " if other and absent else "")
-              + ("a core absent" if absent else "") or "neither"] += 1
-    print("  stalls: " + (", ".join(f"{n} {kind}" for kind, n in kinds.most_common())
-                          or "none"))
+    for what, found_excess in (("stalls", stalls([s[0] - s[1] for s in steps])[1]),
+                               ("slow steps", slow_steps([s[0] for s in steps]))):
+        kinds = collections.Counter()
+        for k, excess in found_excess:
+            found = overlaps(rows[k + 1][2], rows[k + 2][2])
+            absent = any(t[3] == "absent" for t in found)
+            other = any(t[3] != "absent" for t in found)
+            kinds[("another task" if other else "") + (" and " if other and absent else "")
+                  + ("a core absent" if absent else "") or "neither"] += 1
+        print(f"  {what}: " + (", ".join(f"{n} {kind}" for kind, n in kinds.most_common())
+                               or "none")
+              + (f" ({1e3 * sum(e for _, e in found_excess) / len(steps):.3f} ms per step"
+                 f" in all, {sum(steps[k][2] for k, _ in found_excess)} of them"
+                 " quiet)" if found_excess else ""))
 
 
 def main():
