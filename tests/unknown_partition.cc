@@ -60,6 +60,13 @@
 //    own end's in order, and the rows of the two sides add up to the
 //    band's. (The program's history cannot show this: which rank takes a
 //    chunk depends on the machine's timing.)
+// 11. The band of a body whole on rank 0 with the state shared (the
+//    default for two bodies on one node; a band of 30 %, the curved
+//    boundary's unknowns shared), at 5 refinements: no shared unknown
+//    among its rows, which these cut no more often than they would cut as
+//    many rows from the last (the band up to session 53). IGA, whose
+//    curved boundary's unknowns lie among the last rows: the band is not
+//    cut (one range per chunk), where the last rows would be.
 #include <deal.II/base/mpi.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
@@ -85,6 +92,21 @@ using namespace isoimpact;
 
 namespace
 {
+  // The unknowns of the curved boundary (the contact surface), sorted.
+  std::vector<types::global_dof_index>
+  curved_boundary_unknowns(const Discretization<2> &discretization)
+  {
+    std::vector<types::global_dof_index> unknowns;
+    for (const auto &segment :
+         discretization.boundary_segments(BodyGeometry::curved_boundary_id))
+      for (const auto &node : segment.node_dofs)
+        unknowns.insert(unknowns.end(), node.begin(), node.end());
+    std::sort(unknowns.begin(), unknowns.end());
+    unknowns.erase(std::unique(unknowns.begin(), unknowns.end()),
+                   unknowns.end());
+    return unknowns;
+  }
+
   std::unique_ptr<Discretization<2>>
   make_discretization(const bool iga, const unsigned int refinements)
   {
@@ -200,13 +222,8 @@ namespace
     // every unknown is reached, on the owner's side; the anchors are in the
     // deepest layer and no other unknown is; no entry of the pattern
     // couples layers more than one apart (0 such entries).
-    std::vector<types::global_dof_index> anchors;
-    for (const auto &segment :
-         discretization.boundary_segments(BodyGeometry::curved_boundary_id))
-      for (const auto &node : segment.node_dofs)
-        anchors.insert(anchors.end(), node.begin(), node.end());
-    std::sort(anchors.begin(), anchors.end());
-    anchors.erase(std::unique(anchors.begin(), anchors.end()), anchors.end());
+    const std::vector<types::global_dof_index> anchors =
+      curved_boundary_unknowns(discretization);
     for (const unsigned int part : {0U, 1U})
       {
         const UnknownPartition<2> anchored(discretization, 2, part, anchors);
@@ -712,6 +729,68 @@ namespace
                         0);
       }
   }
+
+  // (11) above.
+  void
+  check_band_position(const Discretization<2> &discretization,
+                      const MPI_Comm           communicator,
+                      const bool               expect_no_cut)
+  {
+    if (Utilities::MPI::n_mpi_processes(communicator) != 2)
+      return;
+    const std::vector<types::global_dof_index> anchors =
+      curved_boundary_unknowns(discretization);
+    const UnknownPartition<2> partition(discretization, 2, 0, anchors);
+    const UnknownExchange     exchange(partition,
+                                   communicator,
+                                   anchors,
+                                   LoadBalancing::shared_memory,
+                                   0.30);
+    const auto                is_anchor = [&](const types::global_dof_index i) {
+      return std::binary_search(anchors.begin(), anchors.end(), i);
+    };
+    // The band's rows in order, the anchors among them, and where the
+    // anchors cut them (a row not the one after the previous).
+    std::vector<types::global_dof_index> rows;
+    std::size_t                          n_ranges = 0;
+    for (int c = 0; c < exchange.n_band_chunks(); ++c)
+      for (const auto &[first, end] : exchange.chunk_ranges(c))
+        {
+          ++n_ranges;
+          for (auto i = first; i < end; ++i)
+            rows.push_back(i);
+        }
+    const auto n_cuts = [](const std::vector<types::global_dof_index> &r) {
+      std::size_t cuts = 0;
+      for (std::size_t k = 1; k < r.size(); ++k)
+        cuts += r[k] != r[k - 1] + 1;
+      return cuts;
+    };
+    const std::size_t in_band =
+      std::count_if(rows.begin(), rows.end(), is_anchor);
+    // As many rows from the last, as the band was up to session 53.
+    std::vector<types::global_dof_index> last_rows;
+    for (auto i = discretization.n_dofs();
+         i > 0 && last_rows.size() < rows.size();
+         --i)
+      if (!is_anchor(i - 1))
+        last_rows.insert(last_rows.begin(), i - 1);
+    std::cout << discretization.name() << ", whole on rank 0, state shared: "
+              << "band of " << rows.size() << " rows (rows " << rows.front()
+              << " to " << rows.back() << ") in " << exchange.n_band_chunks()
+              << " chunks and " << n_ranges << " ranges, cut " << n_cuts(rows)
+              << " times by the " << anchors.size()
+              << " shared unknowns (the last rows " << n_cuts(last_rows)
+              << " times)" << std::endl;
+    CHECK_CLOSE_ABS(in_band, 0, 0);
+    CHECK_TRUE(n_cuts(rows) <= n_cuts(last_rows));
+    if (expect_no_cut)
+      {
+        CHECK_TRUE(n_cuts(last_rows) > 0);
+        CHECK_CLOSE_ABS(n_cuts(rows), 0, 0);
+        CHECK_CLOSE_ABS(n_ranges, exchange.n_band_chunks(), 0);
+      }
+  }
 } // namespace
 
 int
@@ -727,5 +806,7 @@ main(int argc, char **argv)
       check_exchange_halves(*make_discretization(iga, 3), MPI_COMM_WORLD);
     }
   check_claims(*make_discretization(false, 5), MPI_COMM_WORLD);
+  for (const bool iga : {false, true})
+    check_band_position(*make_discretization(iga, 5), MPI_COMM_WORLD, iga);
   return isoimpact_tests::report();
 }

@@ -402,21 +402,46 @@ namespace isoimpact
                   band_rows.push_back(i);
             std::sort(band_rows.begin(), band_rows.end());
             // A body whole on a rank with the state shared: no ghosts to
-            // send, so the band need not be layers; as many rows, the last
-            // ones by index (consecutive but for the shared unknowns), and
-            // the owner's fixed rows the first ones.
+            // send, so the band need not be layers; as many rows,
+            // consecutive but for the shared unknowns, at the end of the
+            // index range where these cut them fewer times (the last rows
+            // if equal), the owner's fixed rows the others. Each run of
+            // shared unknowns in the band cuts a chunk's rows and leaves a
+            // fixed range of a few rows among the band's; in IGA, whose
+            // surface unknowns lie among the last rows, the band's rows so
+            // cut cost more per row than the same rows uncut
+            // (doc/parallel.md, session 54).
             if (shares_state() && whole_body)
               {
                 const std::size_t n_band = band_rows.size();
+                const auto not_shared = [&](const types::global_dof_index i) {
+                  return !std::binary_search(sorted_shared.begin(),
+                                             sorted_shared.end(),
+                                             i);
+                };
+                std::vector<types::global_dof_index> first_rows;
+                for (types::global_dof_index i = 0;
+                     i < n && first_rows.size() < n_band;
+                     ++i)
+                  if (not_shared(i))
+                    first_rows.push_back(i);
                 band_rows.clear();
                 for (types::global_dof_index i = n;
                      i > 0 && band_rows.size() < n_band;
                      --i)
-                  if (!std::binary_search(sorted_shared.begin(),
-                                          sorted_shared.end(),
-                                          i - 1))
+                  if (not_shared(i - 1))
                     band_rows.push_back(i - 1);
                 std::reverse(band_rows.begin(), band_rows.end());
+                // Where the shared unknowns cut each end's rows.
+                const auto n_cuts =
+                  [](const std::vector<types::global_dof_index> &rows) {
+                    std::size_t cuts = 0;
+                    for (std::size_t k = 1; k < rows.size(); ++k)
+                      cuts += rows[k] != rows[k - 1] + 1;
+                    return cuts;
+                  };
+                if (n_cuts(first_rows) < n_cuts(band_rows))
+                  band_rows.swap(first_rows);
                 const unsigned int owner =
                   partition.owned_unknowns(0).n_elements() == 0 ? 1 : 0;
                 if (rank != owner)
