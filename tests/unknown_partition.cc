@@ -774,7 +774,8 @@ namespace
          i > 0 && last_rows.size() < rows.size();
          --i)
       if (!is_anchor(i - 1))
-        last_rows.insert(last_rows.begin(), i - 1);
+        last_rows.push_back(i - 1);
+    std::reverse(last_rows.begin(), last_rows.end());
     std::cout << discretization.name() << ", whole on rank 0, state shared: "
               << "band of " << rows.size() << " rows (rows " << rows.front()
               << " to " << rows.back() << ") in " << exchange.n_band_chunks()
