@@ -27,10 +27,11 @@ ParaView output, history every 100 steps.
 usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
           [--level L] [--steps 6000] [--window 1.0] [--build build] [--serial]
           [--also "2 ranks, unbound" | "2 ranks, measured" | "2 ranks, claimed"
-                  | "2 threads, by body" | "2 threads, again"] [--keep FOLDER]
+                  | "2 threads, by body" | "2 threads, again" | "2 ranks, again"]
+          [--keep FOLDER]
           [--variant NAME=VARIABLE=VALUE] [--variant-unbound NAME=VARIABLE=VALUE]
           [--setup-order random|given]
-          [--analyse FOLDER] [--against LABEL] [--sampled]
+          [--analyse FOLDER] [--against LABEL] [--sampled] [--frames]
   --steps: steps of each 2-core run; the turns go on until every run ended
     (a round counts where both 2-core runs had a window with steps).
   --also: a further run (repeatable), each against 2 threads as 2 ranks are:
@@ -38,8 +39,8 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
     each by default; the threads are not bound), with Load balancing =
     measured or claimed (the default for two bodies, automatic, is shared
     memory on one node), 2 threads with Thread partition = by body, 2
-    threads again in processes of their own (how far two runs of one
-    configuration differ).
+    threads or 2 ranks again in processes of their own (how far two runs of
+    one configuration differ).
   --variant: a further 2-rank run whose ranks see VARIABLE=VALUE (mpirun
     -x; several separated by commas), labelled "2 ranks, NAME": for a
     switch of a throw-away build, e.g. the trace patch of benchmarks/traces/
@@ -57,6 +58,11 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
     again over the quiet steps only: those in which, and in the step before
     which, no core was taken by another task of the machine or was away
     (a virtual CPU the host ran something else on). Needs perf and root.
+  With both "2 threads, again" and "2 ranks, again", the table also pairs
+    the mean of each configuration's two processes, round by round.
+  --frames: once every run is set up, how physically contiguous each
+    process's memory is (benchmarks/frame_contiguity.py; root), printed and
+    kept in windows.json.
 The table also counts each run's stalls: steps whose rest (outside the
 passes) exceeds the run's median rest by more than 1 ms, and what they add
 per step; and its slow steps: steps more than 1 ms longer than the median
@@ -91,7 +97,8 @@ CONFIGS = {"2 threads": (1, 2, [], {}), "2 ranks": (2, 1, [], {}), "1 x 1": (1, 
            "2 threads, by body": (1, 2, [], {"Parallel/Thread partition": "by body"}),
            # The same as 2 threads in processes of their own: how far two
            # runs of one configuration differ (an A/A comparison).
-           "2 threads, again": (1, 2, [], {})}
+           "2 threads, again": (1, 2, [], {}),
+           "2 ranks, again": (2, 1, [], {})}
 
 
 def scene(method, level, steps, work, name, edits):
@@ -241,6 +248,9 @@ def main():
                         help="only the table of the runs kept in FOLDER")
     parser.add_argument("--against", default="2 threads", metavar="LABEL",
                         help="the run the others are compared with (default: 2 threads)")
+    parser.add_argument("--frames", action="store_true",
+                        help="print each process's physical contiguity once set up "
+                        "(benchmarks/frame_contiguity.py; root)")
     parser.add_argument("--sampled", action="store_true",
                         help="sample every core during the turns (perf, "
                              "benchmarks/cpu_samples.py): the table again over "
@@ -283,6 +293,12 @@ def main():
         runs[-1].set_up()  # held at its first steps
         print(f"{label}: set up, held", flush=True)
     runs.sort(key=lambda run: labels.index(run.label))  # the turns' order
+    frames = {}
+    if args.frames:
+        from frame_contiguity import describe
+        for run in runs:
+            frames[run.label] = [describe(pid) for pid in run.pids]
+            print(f"{run.label}: frames: " + " | ".join(frames[run.label]), flush=True)
     if args.sampled:
         from cpu_samples import start, stop
         recorder = start(os.path.join(work, "samples.data"))
@@ -300,7 +316,7 @@ def main():
             sys.exit(f"{run.label} failed:\n" + open(run.log.name).read()[-2000:])
     with open(os.path.join(work, "windows.json"), "w") as record:
         json.dump({"method": args.method, "steps": args.steps, "window": args.window,
-                   "rounds": turns, "setup_order": setup_order,
+                   "rounds": turns, "setup_order": setup_order, "frames": frames,
                    "runs": {run.label: {"out": run.out, "windows": run.windows}
                             for run in runs}}, record, indent=1)
     analyse(work, args.against)
@@ -357,6 +373,21 @@ def compare(steps, against, work):
         describe(f"  passes, over {against}'", [b[1] / a[1] for a, b in pairs])
         describe(f"  rest, less {against}' [ms]",
                  [1e3 * ((b[0] - b[1]) - (a[0] - a[1])) for a, b in pairs], False)
+    # Both configurations in two processes each: round by round, the mean
+    # step of the two 2-rank processes over that of the two 2-thread ones,
+    # which halves the weight of any one process's lasting speed.
+    pooled = ["2 threads", "2 threads, again", "2 ranks", "2 ranks, again"]
+    if all(label in means for label in pooled):
+        rounds = [[means[label][k] for label in pooled]
+                  for k in range(min(len(means[label]) for label in pooled))]
+        rounds = [r for r in rounds if all(r)]
+        if rounds:
+            print(f"2 ranks (both processes) against 2 threads (both processes), "
+                  f"round by round ({len(rounds)} rounds):")
+            describe("  step, over 2 threads'",
+                     [(r[2][0] + r[3][0]) / (r[0][0] + r[1][0]) for r in rounds])
+            describe("  passes, over 2 threads'",
+                     [(r[2][1] + r[3][1]) / (r[0][1] + r[1][1]) for r in rounds])
     return means
 
 
