@@ -62,6 +62,15 @@ def main():
                    "-x", "DEAL_II_NUM_THREADS"] + command
     env = {**os.environ, "DEAL_II_NUM_THREADS": str(args.threads)}
     ratios = []
+    try:
+        run_pairs(args, command, env, work, ratios)
+    finally:
+        shutil.rmtree(work)  # also where a run failed
+    print(f"B/A: median {statistics.median(ratios):.3f} over {len(ratios)} pairs, "
+          f"below 1 in {sum(r < 1 for r in ratios)}; A = {args.a!r}, B = {args.b!r}")
+
+
+def run_pairs(args, command, env, work, ratios):
     for pair in range(args.pairs):
         times = []
         for prefix in (args.a, args.b):
@@ -73,9 +82,6 @@ def main():
         ratios.append(times[1] / times[0])
         print(f"pair {pair + 1}: A {1e3 * times[0]:.3f} ms, B {1e3 * times[1]:.3f} ms, "
               f"B/A {ratios[-1]:.3f}", flush=True)
-    shutil.rmtree(work)
-    print(f"B/A: median {statistics.median(ratios):.3f} over {len(ratios)} pairs, "
-          f"below 1 in {sum(r < 1 for r in ratios)}; A = {args.a!r}, B = {args.b!r}")
 
 
 if __name__ == "__main__":
