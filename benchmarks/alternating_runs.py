@@ -59,7 +59,9 @@ usage: python3 benchmarks/alternating_runs.py [--method "FEA Q9"|"IGA p2"]
     which, no core was taken by another task of the machine or was away
     (a virtual CPU the host ran something else on). Needs perf and root.
   With both "2 threads, again" and "2 ranks, again", the table also pairs
-    the mean of each configuration's two processes, round by round.
+    the mean of each configuration's two processes, round by round; so too
+    for a variant run twice (--variant "NAME=..." --variant "NAME,
+    again=..."), against the two processes of --against.
   --frames: once every run is set up, how physically contiguous each
     process's memory is (benchmarks/frame_contiguity.py; root), printed and
     kept in windows.json.
@@ -373,20 +375,25 @@ def compare(steps, against, work):
         describe(f"  passes, over {against}'", [b[1] / a[1] for a, b in pairs])
         describe(f"  rest, less {against}' [ms]",
                  [1e3 * ((b[0] - b[1]) - (a[0] - a[1])) for a, b in pairs], False)
-    # Both configurations in two processes each: round by round, the mean
-    # step of the two 2-rank processes over that of the two 2-thread ones,
-    # which halves the weight of any one process's lasting speed.
-    pooled = ["2 threads", "2 threads, again", "2 ranks", "2 ranks, again"]
-    if all(label in means for label in pooled):
-        rounds = [[means[label][k] for label in pooled]
-                  for k in range(min(len(means[label]) for label in pooled))]
-        rounds = [r for r in rounds if all(r)]
-        if rounds:
-            print(f"2 ranks (both processes) against 2 threads (both processes), "
+    # Runs in two processes each (a label and the same label with
+    # ", again"; for a variant, --variant "NAME, again=..." too): round by
+    # round, the mean step of a run's two processes over that of the two of
+    # `against`, which halves the weight of any one process's lasting speed.
+    pooled = {label: (label, label + ", again") for label in means
+              if label + ", again" in means}
+    if against in pooled:
+        for label in [label for label in pooled if label != against]:
+            both = pooled[against] + pooled[label]
+            rounds = [[means[x][k] for x in both]
+                      for k in range(min(len(means[x]) for x in both))]
+            rounds = [r for r in rounds if all(r)]
+            if not rounds:
+                continue
+            print(f"{label} (both processes) against {against} (both processes), "
                   f"round by round ({len(rounds)} rounds):")
-            describe("  step, over 2 threads'",
+            describe(f"  step, over {against}'",
                      [(r[2][0] + r[3][0]) / (r[0][0] + r[1][0]) for r in rounds])
-            describe("  passes, over 2 threads'",
+            describe(f"  passes, over {against}'",
                      [(r[2][1] + r[3][1]) / (r[0][1] + r[1][1]) for r in rounds])
     return means
 
