@@ -243,11 +243,23 @@ namespace isoimpact
       MPI_Comm_free(&node);
     }
 
-    // The counter's value before adding one.
     long long
-    fetch_and_increment() const
+    load() const
     {
-      return __atomic_fetch_add(counter, 1LL, __ATOMIC_ACQ_REL);
+      return __atomic_load_n(counter, __ATOMIC_ACQUIRE);
+    }
+
+    // The counter from `expected` to `desired` if it holds `expected`;
+    // else false, and `expected` what it holds.
+    bool
+    compare_exchange(long long &expected, const long long desired) const
+    {
+      return __atomic_compare_exchange_n(counter,
+                                         &expected,
+                                         desired,
+                                         false,
+                                         __ATOMIC_ACQ_REL,
+                                         __ATOMIC_ACQUIRE);
     }
   };
 
@@ -410,29 +422,19 @@ namespace isoimpact
             // fixed range of a few rows among the band's; in IGA, whose
             // surface unknowns lie among the last rows, the band's rows so
             // cut cost more per row than the same rows uncut
-            // (doc/parallel.md, session 54).
+            // (doc/parallel.md, session 54). A band that both ends' rows
+            // cut (FEA) is a third as wide: 10 % of the body made FEA's
+            // step 1.4 % shorter than 30 % (eight runs of turns, lower in
+            // seven), where IGA's uncut band of 10 % made its step 1-3 %
+            // longer than 30 % (session 56).
             if (shares_state() && whole_body)
               {
-                const std::size_t n_band = band_rows.size();
                 const auto not_shared = [&](const types::global_dof_index i) {
                   return !std::binary_search(sorted_shared.begin(),
                                              sorted_shared.end(),
                                              i);
                 };
-                std::vector<types::global_dof_index> first_rows;
-                for (types::global_dof_index i = 0;
-                     i < n && first_rows.size() < n_band;
-                     ++i)
-                  if (not_shared(i))
-                    first_rows.push_back(i);
-                band_rows.clear();
-                for (types::global_dof_index i = n;
-                     i > 0 && band_rows.size() < n_band;
-                     --i)
-                  if (not_shared(i - 1))
-                    band_rows.push_back(i - 1);
-                std::reverse(band_rows.begin(), band_rows.end());
-                // Where the shared unknowns cut each end's rows.
+                // Where the shared unknowns cut rows.
                 const auto n_cuts =
                   [](const std::vector<types::global_dof_index> &rows) {
                     std::size_t cuts = 0;
@@ -440,8 +442,28 @@ namespace isoimpact
                       cuts += rows[k] != rows[k - 1] + 1;
                     return cuts;
                   };
-                if (n_cuts(first_rows) < n_cuts(band_rows))
-                  band_rows.swap(first_rows);
+                // n_band rows from the end they are cut less at.
+                const auto rows_from_an_end = [&](const std::size_t n_band) {
+                  std::vector<types::global_dof_index> first_rows, last_rows;
+                  for (types::global_dof_index i = 0;
+                       i < n && first_rows.size() < n_band;
+                       ++i)
+                    if (not_shared(i))
+                      first_rows.push_back(i);
+                  for (types::global_dof_index i = n;
+                       i > 0 && last_rows.size() < n_band;
+                       --i)
+                    if (not_shared(i - 1))
+                      last_rows.push_back(i - 1);
+                  std::reverse(last_rows.begin(), last_rows.end());
+                  return n_cuts(first_rows) < n_cuts(last_rows) ? first_rows :
+                                                                  last_rows;
+                };
+                const std::size_t n_band = band_rows.size();
+                band_rows                = rows_from_an_end(n_band);
+                if (n_cuts(band_rows) > 0)
+                  band_rows =
+                    rows_from_an_end(std::max<std::size_t>(1, n_band / 3));
                 const unsigned int owner =
                   partition.owned_unknowns(0).n_elements() == 0 ? 1 : 0;
                 if (rank != owner)
@@ -449,9 +471,10 @@ namespace isoimpact
               }
             // The claims take the band in chunks of consecutive rows (a
             // layer's rows lie scattered over the index range, a few in a
-            // row, and a pass over them was slower): about 2000 rows each
-            // (some 50 us of a pass), in ascending order.
-            constexpr std::size_t chunk_rows = 2048;
+            // row, and a pass over them was slower): about 256 rows each
+            // (some 5 us of a pass), in ascending order; claim_chunk() hands
+            // a rank alone in the band claim_batch of them at a time.
+            constexpr std::size_t chunk_rows = 256;
             const std::size_t     n_chunks =
               std::max<std::size_t>(1,
                                     (band_rows.size() + chunk_rows / 2) /
@@ -787,24 +810,44 @@ namespace isoimpact
   UnknownExchange::claim_chunk(int &chunk)
   {
     AssertThrow(claim_window, ExcMessage("open_claims() first"));
-    // Each claim adds one to the counter; the band's n chunks go to the
-    // first n claims of the pass, rank 0 taking them from the first, rank 1
-    // from the last. Each rank claims until its first claim beyond them: a
-    // pass adds n + 2. (A rank starts the next pass's claims only after it
-    // received the other's band values of this one: sent after its last
-    // claim.)
-    const int       n        = band_chunk_ranges.size();
-    const long long previous = claim_window->fetch_and_increment();
-    if (previous - claims_base < n)
+    // The counter holds the chunks claimed so far, claims_base of them in
+    // earlier passes; rank 0 takes its chunks from the first, rank 1 from
+    // the last. A rank alone in this pass's band (the other has claimed
+    // none of it) claims claim_batch chunks at once while more than four
+    // batches are left, else one: once both claim, the two ranks' passes
+    // end within about one chunk of each other (with batches of 2048 rows
+    // throughout they ended 21 us apart, median over a run's steps, FEA
+    // level 7; doc/parallel.md, session 56). A pass adds exactly n. (A
+    // rank starts the next pass's claims only after the other's pass is
+    // over: wait_for_other_pass(), or its band values received.)
+    const int n = band_chunk_ranges.size();
+    if (reserved_chunks == 0)
       {
-        chunk = rank == 0 ? own_claims : n - 1 - own_claims;
-        ++own_claims;
-        return true;
+        long long counter = claim_window->load();
+        while (true)
+          {
+            const long long taken = counter - claims_base;
+            if (taken >= n)
+              {
+                meeting_chunk = rank == 0 ? own_claims : n - own_claims;
+                claims_base += n;
+                own_claims = 0;
+                return false;
+              }
+            const bool      alone = taken == own_claims;
+            const long long batch =
+              alone && n - taken > 4 * claim_batch ? claim_batch : 1;
+            if (claim_window->compare_exchange(counter, counter + batch))
+              {
+                reserved_chunks = batch;
+                break;
+              }
+          }
       }
-    meeting_chunk = rank == 0 ? own_claims : n - own_claims;
-    claims_base += n + 2;
-    own_claims = 0;
-    return false;
+    chunk = rank == 0 ? own_claims : n - 1 - own_claims;
+    ++own_claims;
+    --reserved_chunks;
+    return true;
   }
 
   const std::vector<std::pair<types::global_dof_index, types::global_dof_index>>
@@ -932,7 +975,8 @@ namespace isoimpact
   }
 
   void
-  UnknownExchange::observe_pass_times(const std::vector<double> &seconds)
+  UnknownExchange::observe_pass_times(const std::vector<double> &seconds,
+                                      const std::vector<double> &ends)
   {
     if (balancing == LoadBalancing::off)
       return;
@@ -948,7 +992,7 @@ namespace isoimpact
         return;
       }
     // Measured: the joint rule with this body alone.
-    observe_pass_times(std::vector<UnknownExchange *>{this}, seconds);
+    observe_pass_times(std::vector<UnknownExchange *>{this}, seconds, ends);
   }
 
   bool
@@ -960,7 +1004,8 @@ namespace isoimpact
   void
   UnknownExchange::observe_pass_times(
     const std::vector<UnknownExchange *> &exchanges,
-    const std::vector<double>            &seconds)
+    const std::vector<double>            &seconds,
+    const std::vector<double>            &ends)
   {
     if (exchanges.empty())
       return;
@@ -981,7 +1026,11 @@ namespace isoimpact
         rows[p] += exchange->claims_band() ?
                      exchange->fixed_count[p] + exchange->n_claimed_rows(p) :
                      exchange->owned_count[p];
-    first.pass_history.push_back({{{seconds[0], seconds[1]}}, rows});
+    first.pass_history.push_back({{{seconds[0], seconds[1]}},
+                                  rows,
+                                  ends.size() == 2 ?
+                                    std::array<double, 2>{{ends[0], ends[1]}} :
+                                    std::array<double, 2>{{0., 0.}}});
     // None while a move is under way: the pass timed the rows of a split
     // about to change.
     for (const auto *exchange : exchanges)

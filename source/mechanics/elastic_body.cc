@@ -208,7 +208,9 @@ namespace isoimpact
         // The band: 15 % of each part at an interface (split bodies); 30 %
         // of a body whole on a rank, whose band the other rank builds in
         // the room its own matrix leaves (the ranks' times per row differed
-        // by up to 39 % for whole runs here, doc/parallel.md, session 31).
+        // by up to 39 % for whole runs here, doc/parallel.md, session 31;
+        // with the state shared a third of that where the contact
+        // surface's unknowns cut it, session 56: UnknownExchange).
         const bool whole_body =
           ranks->whole_on_rank != numbers::invalid_unsigned_int;
         row_exchange            = UnknownExchange(*partition,
@@ -705,9 +707,10 @@ namespace isoimpact
         if (row_exchange.shares_state())
           row_exchange.end_shared_pass();
         // Load balancing: the pass's time decides the next split.
-        last_pass_seconds = std::chrono::duration<double>(
-                              std::chrono::steady_clock::now() - start)
-                              .count();
+        const auto end    = std::chrono::steady_clock::now();
+        last_pass_seconds = std::chrono::duration<double>(end - start).count();
+        last_pass_end =
+          std::chrono::duration<double>(end.time_since_epoch()).count();
       }
   }
 
@@ -1298,12 +1301,14 @@ namespace isoimpact
           body->step_energies_under_way = true;
           sums.push_back(body->step_energies->kinetic);
           sums.push_back(body->step_energies->strain);
-          // Each rank's pass time in its own slot: the sum gathers them.
+          // Each rank's pass time and end in its own slots: the sum gathers
+          // them.
           if (body->row_exchange.balances_load())
-            for (unsigned int p = 0; p < body->row_exchange.n_ranks(); ++p)
-              sums.push_back(p == body->row_exchange.this_rank() ?
-                               body->last_pass_seconds :
-                               0.);
+            for (const double value :
+                 {body->last_pass_seconds, body->last_pass_end})
+              for (unsigned int p = 0; p < body->row_exchange.n_ranks(); ++p)
+                sums.push_back(p == body->row_exchange.this_rank() ? value :
+                                                                     0.);
         }
     // Every rank has the same bodies with partial energies (the same
     // scene, the same steps).
@@ -1326,7 +1331,7 @@ namespace isoimpact
     // Bodies whole on ranks: one split for all, from each rank's time over
     // all its rows.
     std::vector<UnknownExchange *> whole_bodies;
-    std::vector<double>            whole_body_seconds;
+    std::vector<double>            whole_body_seconds, whole_body_ends;
     for (auto *body : under_way.bodies)
       {
         summed.push_back({sums[k], sums[k + 1]});
@@ -1341,21 +1346,28 @@ namespace isoimpact
           {
             const unsigned int        n = body->row_exchange.n_ranks();
             const std::vector<double> seconds(sums.begin() + k,
-                                              sums.begin() + k + n);
-            k += n;
+                                              sums.begin() + k + n),
+              ends(sums.begin() + k + n, sums.begin() + k + 2 * n);
+            k += 2 * n;
             if (!body->row_exchange.balances_whole_body())
               {
-                body->row_exchange.observe_pass_times(seconds);
+                body->row_exchange.observe_pass_times(seconds, ends);
                 continue;
               }
             whole_bodies.push_back(&body->row_exchange);
             whole_body_seconds.resize(n, 0.);
+            whole_body_ends.resize(n, 0.);
             for (unsigned int p = 0; p < n; ++p)
-              whole_body_seconds[p] += seconds[p];
+              {
+                whole_body_seconds[p] += seconds[p];
+                whole_body_ends[p] = std::max(whole_body_ends[p], ends[p]);
+              }
           }
       }
     under_way.bodies.clear();
-    UnknownExchange::observe_pass_times(whole_bodies, whole_body_seconds);
+    UnknownExchange::observe_pass_times(whole_bodies,
+                                        whole_body_seconds,
+                                        whole_body_ends);
     return summed;
   }
 

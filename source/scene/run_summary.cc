@@ -388,7 +388,7 @@ namespace isoimpact
       return;
     write_by_rename(path, [&](std::ostream &out) {
       out << "balanced,pass,rank_0_pass_s,rank_1_pass_s,rank_0_rows,"
-             "rank_1_rows\n"
+             "rank_1_rows,rank_0_pass_end_s,rank_1_pass_end_s\n"
           << std::setprecision(17);
       for (const auto &[name, exchange] : balanced)
         {
@@ -396,7 +396,8 @@ namespace isoimpact
           for (const auto &record : exchange->pass_time_history())
             out << name << ',' << ++pass << ',' << record.seconds[0] << ','
                 << record.seconds[1] << ',' << record.rows[0] << ','
-                << record.rows[1] << '\n';
+                << record.rows[1] << ',' << record.ends[0] << ','
+                << record.ends[1] << '\n';
         }
     });
   }

@@ -249,6 +249,10 @@ for case in sys.argv[4:]:
                        0. <= float(r[f"rank_{p}_pass_s"]) <=
                        parallel_summary["wall_time_parts_s"]["total"]
                        for r in rows_of_group for p in (0, 1)))
+        check_true(f"{label}: {group}: each rank's pass ends on the monotonic clock "
+                   f"increase from pass to pass",
+                   all(float(b[f"rank_{p}_pass_end_s"]) > float(a[f"rank_{p}_pass_end_s"]) > 0.
+                       for a, b in zip(rows_of_group, rows_of_group[1:]) for p in (0, 1)))
         # Claimed: the rows each rank computed follow each pass's meeting
         # in the band, which the machine's timing decides: on a machine
         # whose ranks keep the same pace every pass may meet at the same

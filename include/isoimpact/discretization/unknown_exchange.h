@@ -193,9 +193,12 @@ namespace isoimpact
           f(first, end);
     }
     // The next split from every rank's time of this step's pass over its
-    // rows (seconds, in rank order; the same values on every rank).
+    // rows (seconds, in rank order; the same values on every rank), and
+    // where each rank's pass ended on the monotonic clock (ends, recorded
+    // only; none: zeros).
     void
-    observe_pass_times(const std::vector<double> &seconds);
+    observe_pass_times(const std::vector<double> &seconds,
+                       const std::vector<double> &ends = {});
     // Whether the partition put every unknown in one part (a body whole on
     // a rank): its split is chosen with the other such bodies'.
     bool
@@ -208,15 +211,19 @@ namespace isoimpact
     // each band lies in one part).
     static void
     observe_pass_times(const std::vector<UnknownExchange *> &exchanges,
-                       const std::vector<double>            &seconds);
+                       const std::vector<double>            &seconds,
+                       const std::vector<double>            &ends = {});
     // One observed pass of the measured balancing (one per step): each
-    // rank's pass time [s] and its owned rows over the bodies balanced
-    // together. Recorded in the first exchange of observe_pass_times()
+    // rank's pass time [s], its owned rows over the bodies balanced
+    // together, and where its pass ended on the monotonic clock [s] (the
+    // ranks' waits for each other: benchmarks/pass_ends.py). Recorded in
+    // the first exchange of observe_pass_times()
     // (benchmarks/balance_replay.py replays rules on them).
     struct PassRecord
     {
       std::array<double, 2> seconds;
       std::array<double, 2> rows;
+      std::array<double, 2> ends;
     };
     const std::vector<PassRecord> &
     pass_time_history() const;
@@ -441,7 +448,11 @@ namespace isoimpact
     std::shared_ptr<ClaimWindow> claim_window;
     long long                    claims_base = 0;
     int                          own_claims = 0, meeting_chunk = 0;
-    std::vector<std::size_t>     chunk_prefix; // rows of the chunks before
+    // Chunks a rank alone in the band claims at once (claim_chunk()), and
+    // those of its last claim it has not yet taken.
+    static constexpr long long claim_batch     = 8;
+    long long                  reserved_chunks = 0;
+    std::vector<std::size_t>   chunk_prefix; // rows of the chunks before
     std::array<dealii::types::global_dof_index, 2> fixed_count = {{0, 0}};
     std::vector<std::vector<std::pair<dealii::types::global_dof_index,
                                       dealii::types::global_dof_index>>>

@@ -482,6 +482,8 @@ namespace isoimpact
     // ... and are being summed (StepEnergiesSum).
     bool   step_energies_under_way = false;
     double last_pass_seconds       = 0.;
+    // Where it ended on the monotonic clock [s] (pass_times.csv).
+    double last_pass_end = 0.;
     // The next displacement's rows that other ranks read, sent by the pass
     // before the rest of it (UnknownExchange::sent_unknowns()), and whether
     // the last advance_displacement() received the ghosts.
