@@ -243,23 +243,11 @@ namespace isoimpact
       MPI_Comm_free(&node);
     }
 
+    // The counter's value before adding one.
     long long
-    load() const
+    fetch_and_increment() const
     {
-      return __atomic_load_n(counter, __ATOMIC_ACQUIRE);
-    }
-
-    // The counter from `expected` to `desired` if it holds `expected`;
-    // else false, and `expected` what it holds.
-    bool
-    compare_exchange(long long &expected, const long long desired) const
-    {
-      return __atomic_compare_exchange_n(counter,
-                                         &expected,
-                                         desired,
-                                         false,
-                                         __ATOMIC_ACQ_REL,
-                                         __ATOMIC_ACQUIRE);
+      return __atomic_fetch_add(counter, 1LL, __ATOMIC_ACQ_REL);
     }
   };
 
@@ -471,10 +459,13 @@ namespace isoimpact
               }
             // The claims take the band in chunks of consecutive rows (a
             // layer's rows lie scattered over the index range, a few in a
-            // row, and a pass over them was slower): about 256 rows each
-            // (some 5 us of a pass), in ascending order; claim_chunk() hands
-            // a rank alone in the band claim_batch of them at a time.
-            constexpr std::size_t chunk_rows = 256;
+            // row, and a pass over them was slower): about 2000 rows each
+            // (some 50 us of a pass), in ascending order. (Chunks of 256
+            // rows, a rank alone in the band claiming eight at once, ended
+            // the two ranks' passes closer together, but made IGA's step 7 %
+            // longer: each chunk starts a range of the pass, and a range
+            // costs IGA 1-3 us, doc/parallel.md, sessions 54 and 56.)
+            constexpr std::size_t chunk_rows = 2048;
             const std::size_t     n_chunks =
               std::max<std::size_t>(1,
                                     (band_rows.size() + chunk_rows / 2) /
@@ -810,44 +801,24 @@ namespace isoimpact
   UnknownExchange::claim_chunk(int &chunk)
   {
     AssertThrow(claim_window, ExcMessage("open_claims() first"));
-    // The counter holds the chunks claimed so far, claims_base of them in
-    // earlier passes; rank 0 takes its chunks from the first, rank 1 from
-    // the last. A rank alone in this pass's band (the other has claimed
-    // none of it) claims claim_batch chunks at once while more than four
-    // batches are left, else one: once both claim, the two ranks' passes
-    // end within about one chunk of each other (with batches of 2048 rows
-    // throughout they ended 21 us apart, median over a run's steps, FEA
-    // level 7; doc/parallel.md, session 56). A pass adds exactly n. (A
-    // rank starts the next pass's claims only after the other's pass is
-    // over: wait_for_other_pass(), or its band values received.)
-    const int n = band_chunk_ranges.size();
-    if (reserved_chunks == 0)
+    // Each claim adds one to the counter; the band's n chunks go to the
+    // first n claims of the pass, rank 0 taking them from the first, rank 1
+    // from the last. Each rank claims until its first claim beyond them: a
+    // pass adds n + 2. (A rank starts the next pass's claims only after it
+    // received the other's band values of this one: sent after its last
+    // claim.)
+    const int       n        = band_chunk_ranges.size();
+    const long long previous = claim_window->fetch_and_increment();
+    if (previous - claims_base < n)
       {
-        long long counter = claim_window->load();
-        while (true)
-          {
-            const long long taken = counter - claims_base;
-            if (taken >= n)
-              {
-                meeting_chunk = rank == 0 ? own_claims : n - own_claims;
-                claims_base += n;
-                own_claims = 0;
-                return false;
-              }
-            const bool      alone = taken == own_claims;
-            const long long batch =
-              alone && n - taken > 4 * claim_batch ? claim_batch : 1;
-            if (claim_window->compare_exchange(counter, counter + batch))
-              {
-                reserved_chunks = batch;
-                break;
-              }
-          }
+        chunk = rank == 0 ? own_claims : n - 1 - own_claims;
+        ++own_claims;
+        return true;
       }
-    chunk = rank == 0 ? own_claims : n - 1 - own_claims;
-    ++own_claims;
-    --reserved_chunks;
-    return true;
+    meeting_chunk = rank == 0 ? own_claims : n - own_claims;
+    claims_base += n + 2;
+    own_claims = 0;
+    return false;
   }
 
   const std::vector<std::pair<types::global_dof_index, types::global_dof_index>>

@@ -448,11 +448,7 @@ namespace isoimpact
     std::shared_ptr<ClaimWindow> claim_window;
     long long                    claims_base = 0;
     int                          own_claims = 0, meeting_chunk = 0;
-    // Chunks a rank alone in the band claims at once (claim_chunk()), and
-    // those of its last claim it has not yet taken.
-    static constexpr long long claim_batch     = 8;
-    long long                  reserved_chunks = 0;
-    std::vector<std::size_t>   chunk_prefix; // rows of the chunks before
+    std::vector<std::size_t>     chunk_prefix; // rows of the chunks before
     std::array<dealii::types::global_dof_index, 2> fixed_count = {{0, 0}};
     std::vector<std::vector<std::pair<dealii::types::global_dof_index,
                                       dealii::types::global_dof_index>>>
