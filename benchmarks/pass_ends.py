@@ -29,7 +29,7 @@ sys.path.insert(0, os.path.join(root, "tests", "scripts"))
 from testing import edit_prm  # noqa: E402
 
 
-def describe(path, skip):
+def describe(path, skip, label=None):
     with open(path) as file:
         rows = list(csv.DictReader(file))
     if not rows or "rank_0_pass_end_s" not in rows[0]:
@@ -41,7 +41,7 @@ def describe(path, skip):
     gaps = [1e6 * abs(float(r["rank_0_pass_end_s"]) - float(r["rank_1_pass_end_s"]))
             for r in rows]
     deciles = statistics.quantiles(gaps, n=10)
-    print(f"{path}: {len(gaps)} passes; |end_0 - end_1| [us]: median "
+    print(f"{label or path}: {len(gaps)} passes; |end_0 - end_1| [us]: median "
           f"{statistics.median(gaps):.1f}, mean {statistics.mean(gaps):.1f}, deciles "
           + " ".join(f"{d:.1f}" for d in deciles)
           + f"; the step's loss (half the mean) {statistics.mean(gaps) / 2:.1f} us per step")
@@ -80,7 +80,7 @@ def main():
             path = os.path.join(work, "out", "pass_times.csv")
             if not os.path.exists(path):
                 sys.exit(f"{args.run}: no pass_times.csv (2 ranks with load balancing needed)")
-            describe(path, args.skip)
+            describe(path, args.skip, f"{args.run} on 2 ranks")
         finally:
             shutil.rmtree(work, ignore_errors=True)
 
