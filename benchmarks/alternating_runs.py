@@ -335,7 +335,7 @@ def compare(steps, against, work):
     print("the windows' medians [ms per step]: step; passes; rest. Stalls: the steps "
           "whose rest exceeds the run's median rest by more than 1 ms; slow steps: "
           "those more than 1 ms longer than the median of the 50 steps around them "
-          "(within the window)")
+          "(within the window); the median and the mean of the windows' steps")
     for label, values in means.items():
         values = [x for x in values if x]
         if values:
@@ -343,6 +343,7 @@ def compare(steps, against, work):
             excess = [1e3 * e for _, e in stalls(every)[1]]
             slow = [1e3 * e for window in steps[label]
                     for _, e in slow_steps([s for s, _ in window])]
+            all_steps = [s for window in steps[label] for s, _ in window]
             print(f"  {label}: {statistics.median(1e3 * s for s, _ in values):.3f}; "
                   f"{statistics.median(1e3 * p for _, p in values):.3f}; "
                   f"{statistics.median(1e3 * (s - p) for s, p in values):.3f} "
@@ -351,7 +352,10 @@ def compare(steps, against, work):
                   + (f", each {min(excess):.1f}-{max(excess):.1f} ms (quartiles "
                      f"{' '.join(f'{q:.1f}' for q in statistics.quantiles(excess))})"
                      if len(excess) > 1 else "")
-                  + f"; slow steps {len(slow)}, {sum(slow) / len(every):.3f} ms per step")
+                  + f"; slow steps {len(slow)}, {sum(slow) / len(every):.3f} ms per step"
+                  # The typical step against the mean: what the slow steps add.
+                  + f"; the steps' median {1e3 * statistics.median(all_steps):.3f} ms, "
+                  f"mean {1e3 * statistics.mean(all_steps):.3f} ms")
 
     def describe(what, values, unit_is_ratio=True):
         interval = median_interval(values, 0.95)
