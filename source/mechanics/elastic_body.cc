@@ -817,6 +817,39 @@ namespace isoimpact
   }
 
   template <int dim>
+  void
+  ElasticBody<dim>::set_force_rows(std::vector<types::global_dof_index> rows)
+  {
+    AssertThrow(std::is_sorted(rows.begin(), rows.end()) &&
+                  (rows.empty() || rows.back() < n_dofs()),
+                ExcMessage("the force rows of body '" + body_name +
+                           "' must be sorted unknowns of the body"));
+    force_rows     = std::move(rows);
+    force_rows_set = true;
+  }
+
+  template <int dim>
+  void
+  ElasticBody<dim>::check_force_rows(const Vector<double> &f) const
+  {
+    if (!force_rows_set)
+      return;
+    auto next = force_rows.begin();
+    for (types::global_dof_index i = 0; i < f.size(); ++i)
+      {
+        while (next != force_rows.end() && *next < i)
+          ++next;
+        AssertThrow(f[i] == 0. || (next != force_rows.end() && *next == i),
+                    ExcMessage("body '" + body_name + "': a force of " +
+                               std::to_string(f[i]) + " N/m on unknown " +
+                               std::to_string(i) +
+                               ", outside the contact surfaces' rows that "
+                               "the step reads forces on (a contact model "
+                               "wrote outside its surface_springs())"));
+      }
+  }
+
+  template <int dim>
   template <bool form_whole_step_state, bool owned_rows_only>
   void
   ElasticBody<dim>::fused_step(Vector<double> &f,
@@ -864,23 +897,32 @@ namespace isoimpact
     const auto &range_offsets = row_exchange.owned_range_offsets();
     stiffness_times_u.reinit(0); // not computed: see above
 
-    // One row's step, its product ku at hand.
-    const auto row_step =
-      [&](const std::size_t i, const double ku, StepEnergies &sums) {
-        const double ai       = (w[i] == 0.) ? 0. : (force[i] - ku) * w[i];
-        force[i]              = 0.; // consumed: zero for the next step
-        const double previous = vh[i];
-        if constexpr (form_whole_step_state)
-          {
-            a[i] = ai;
-            v[i] = previous + 0.5 * dt * ai;
-          }
-        vh[i] = previous + dt * ai;
-        if (u_ahead != nullptr)
-          u_ahead[i] = u[i] + dt * vh[i]; // advance_range()'s operations
-        sums.kinetic += previous * mass[i] * vh[i];
-        sums.strain += u[i] * ku;
-      };
+    // One row's step, its product ku at hand; with_force false: a row
+    // where no force acts (set_force_rows()), f_i = +0 neither read nor
+    // written (the same operations on the same value: the same bits).
+    const auto row_step = [&](const std::size_t i,
+                              const double      ku,
+                              StepEnergies     &sums,
+                              auto              with_force) {
+      double fi = 0.;
+      if constexpr (decltype(with_force)::value)
+        {
+          fi       = force[i];
+          force[i] = 0.; // consumed: zero for the next step
+        }
+      const double ai       = (w[i] == 0.) ? 0. : (fi - ku) * w[i];
+      const double previous = vh[i];
+      if constexpr (form_whole_step_state)
+        {
+          a[i] = ai;
+          v[i] = previous + 0.5 * dt * ai;
+        }
+      vh[i] = previous + dt * ai;
+      if (u_ahead != nullptr)
+        u_ahead[i] = u[i] + dt * vh[i]; // advance_range()'s operations
+      sums.kinetic += previous * mass[i] * vh[i];
+      sums.strain += u[i] * ku;
+    };
     // Rows 2p and 2p + 1 side by side where both are to be stepped
     // (paired_stiffness: the same bits as one at a time), else one row,
     // (K u)_i from the pairs if there are (the band's rows of a rank are
@@ -900,9 +942,10 @@ namespace isoimpact
       return ku;
     };
     // The rows [first, end), in pairs where both rows are among them.
-    const auto step_rows = [&](const std::size_t first,
-                               const std::size_t end,
-                               StepEnergies     &sums) {
+    const auto step_rows_of = [&](const std::size_t first,
+                                  const std::size_t end,
+                                  StepEnergies     &sums,
+                                  auto              with_force) {
       for (std::size_t i = first; i < end;)
         {
           if (pairs && i % 2 == 0 && i + 1 < end)
@@ -914,10 +957,15 @@ namespace isoimpact
               const __m128d ku   = paired_stiffness.packed_products(i / 2, u);
               const __m128d zero = _mm_setzero_pd();
               const __m128d inverse = _mm_loadu_pd(w + i);
-              const __m128d ai      = _mm_andnot_pd(
-                _mm_cmpeq_pd(inverse, zero),
-                _mm_mul_pd(_mm_sub_pd(_mm_loadu_pd(force + i), ku), inverse));
-              _mm_storeu_pd(force + i, zero);
+              __m128d       fi      = zero;
+              if constexpr (decltype(with_force)::value)
+                {
+                  fi = _mm_loadu_pd(force + i);
+                  _mm_storeu_pd(force + i, zero);
+                }
+              const __m128d ai =
+                _mm_andnot_pd(_mm_cmpeq_pd(inverse, zero),
+                              _mm_mul_pd(_mm_sub_pd(fi, ku), inverse));
               const __m128d previous = _mm_loadu_pd(vh + i);
               if constexpr (form_whole_step_state)
                 {
@@ -945,14 +993,45 @@ namespace isoimpact
 #else
               double ku_first, ku_second;
               paired_stiffness.products(i / 2, u, ku_first, ku_second);
-              row_step(i, ku_first, sums);
-              row_step(i + 1, ku_second, sums);
+              row_step(i, ku_first, sums, with_force);
+              row_step(i + 1, ku_second, sums, with_force);
 #endif
               i += 2;
               continue;
             }
-          row_step(i, row_product(i), sums);
+          row_step(i, row_product(i), sums, with_force);
           ++i;
+        }
+    };
+    // The same, f read only on the pairs of the force rows where these are
+    // set. The stretches between them end at even rows: the same pairs as
+    // one stretch, so the same bits.
+    const auto step_rows = [&](const std::size_t first,
+                               const std::size_t end,
+                               StepEnergies     &sums) {
+      if (!force_rows_set)
+        {
+          step_rows_of(first, end, sums, std::true_type());
+          return;
+        }
+      auto next = std::lower_bound(force_rows.begin(), force_rows.end(), first);
+      for (std::size_t i = first; i < end;)
+        {
+          if (next == force_rows.end() || *next >= end)
+            {
+              step_rows_of(i, end, sums, std::false_type());
+              break;
+            }
+          const std::size_t pair_start =
+            std::max<std::size_t>(i, *next - *next % 2);
+          if (pair_start > i)
+            step_rows_of(i, pair_start, sums, std::false_type());
+          const std::size_t pair_end =
+            std::min<std::size_t>(end, *next - *next % 2 + 2);
+          step_rows_of(pair_start, pair_end, sums, std::true_type());
+          while (next != force_rows.end() && *next < pair_end)
+            ++next;
+          i = pair_end;
         }
     };
     // Several ranks, the next displacement ahead: first the rows that other

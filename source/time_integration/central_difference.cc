@@ -126,6 +126,14 @@ namespace isoimpact
                                                               forces,
                                                               results);
       }
+    // The contacts are the only writers of the forces, each on its surface
+    // springs' segments: a lumped body's pass reads and zeroes the forces
+    // on those rows alone (not with the quasi-static boundary, whose
+    // solution writes forces too). evaluate_contacts() checks the rest.
+    if (!boundary)
+      for (unsigned int b = 0; b < bodies.size(); ++b)
+        if (bodies[b]->step_zeroes_force())
+          bodies[b]->set_force_rows(surface_unknowns[b]);
     // Several ranks that need not meet at every step: each body's pass sends
     // what the others read, and the energies can wait.
     loose_steps =
@@ -167,6 +175,17 @@ namespace isoimpact
                                                    contact_forces[c],
                                                    record_contact_points);
       }
+      // A force outside the force rows would never reach a pass: every 128th
+      // step (every step in debug builds) a stream over the forces makes
+      // sure there is none.
+#ifdef DEBUG
+    constexpr unsigned int check_period = 1;
+#else
+    constexpr unsigned int check_period = 128;
+#endif
+    if (step % check_period == 0)
+      for (unsigned int b = 0; b < bodies.size(); ++b)
+        bodies[b]->check_force_rows(forces[b]);
   }
 
   template <int dim>

@@ -471,7 +471,9 @@ namespace isoimpact
     }
 
     // The penalty spring the model can put on the surface of each of its
-    // bodies (entry b for body b of evaluate()).
+    // bodies (entry b for body b of evaluate()). evaluate() adds forces on
+    // these segments' unknowns only: the lumped step reads forces there
+    // alone (CentralDifference, ElasticBody::set_force_rows()).
     virtual std::vector<SurfaceSpring<dim>>
     surface_springs() const = 0;
 
