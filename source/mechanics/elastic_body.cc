@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <random>
+#include <sstream>
 
 using namespace dealii;
 
@@ -839,9 +840,13 @@ namespace isoimpact
       {
         while (next != force_rows.end() && *next < i)
           ++next;
-        AssertThrow(f[i] == 0. || (next != force_rows.end() && *next == i),
+        if (f[i] == 0. || (next != force_rows.end() && *next == i))
+          continue;
+        std::ostringstream force;
+        force << f[i];
+        AssertThrow(false,
                     ExcMessage("body '" + body_name + "': a force of " +
-                               std::to_string(f[i]) + " N/m on unknown " +
+                               force.str() + " N/m on unknown " +
                                std::to_string(i) +
                                ", outside the contact surfaces' rows that "
                                "the step reads forces on (a contact model "
