@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <numeric>
 #include <thread>
 
 using namespace dealii;
@@ -390,7 +391,7 @@ namespace isoimpact
             // The band's rows less the shared unknowns: the contact forces
             // land on these, and only their owner has them (it computes
             // them with its fixed rows, and sends them to the other rank
-            // as ghosts).
+            // as ghosts); but see the state shared below.
             std::vector<types::global_dof_index> sorted_shared = shared;
             std::sort(sorted_shared.begin(), sorted_shared.end());
             std::vector<types::global_dof_index> band_rows;
@@ -402,56 +403,36 @@ namespace isoimpact
                   band_rows.push_back(i);
             std::sort(band_rows.begin(), band_rows.end());
             // A body whole on a rank with the state shared: no ghosts to
-            // send, so the band need not be layers; as many rows,
-            // consecutive but for the shared unknowns, at the end of the
-            // index range where these cut them fewer times (the last rows
-            // if equal), the owner's fixed rows the others. Each run of
-            // shared unknowns in the band cuts a chunk's rows and leaves a
-            // fixed range of a few rows among the band's; in IGA, whose
-            // surface unknowns lie among the last rows, the band's rows so
-            // cut cost more per row than the same rows uncut
-            // (doc/parallel.md, session 54). A band that both ends' rows
-            // cut (FEA) is a third as wide: 10 % of the body made FEA's
-            // step 1.4 % shorter than 30 % (eight runs of turns, lower in
-            // seven), where IGA's uncut band of 10 % made its step 1-3 %
-            // longer than 30 % (session 56).
+            // send, so the band need not be layers: as many rows,
+            // consecutive, the contact surfaces' among them, at the end of
+            // the index range where the surfaces' unknowns are fewer (the
+            // last rows if as many), the owner's fixed rows the others.
+            // Both ranks form the contact forces of the surfaces whose rows
+            // they may step (ElasticBody: steps_contact_surface()), and the
+            // pass leaves every surface row's force zero. Sessions 54-59
+            // left the surfaces' rows out of the band (only their owner had
+            // their forces): each run of them cut the band and left a few
+            // fixed rows among the band's, which the owner's pass stepped
+            // after its fixed rows, a jump for each; FEA's surfaces cut its
+            // band of 10 % 160 times (doc/parallel.md, session 60).
             if (shares_state() && whole_body)
               {
-                const auto not_shared = [&](const types::global_dof_index i) {
-                  return !std::binary_search(sorted_shared.begin(),
-                                             sorted_shared.end(),
-                                             i);
+                const auto is_shared = [&](const types::global_dof_index i) {
+                  return std::binary_search(sorted_shared.begin(),
+                                            sorted_shared.end(),
+                                            i);
                 };
-                // Where the shared unknowns cut rows.
-                const auto n_cuts =
-                  [](const std::vector<types::global_dof_index> &rows) {
-                    std::size_t cuts = 0;
-                    for (std::size_t k = 1; k < rows.size(); ++k)
-                      cuts += rows[k] != rows[k - 1] + 1;
-                    return cuts;
-                  };
-                // n_band rows from the end they are cut less at.
-                const auto rows_from_an_end = [&](const std::size_t n_band) {
-                  std::vector<types::global_dof_index> first_rows, last_rows;
-                  for (types::global_dof_index i = 0;
-                       i < n && first_rows.size() < n_band;
-                       ++i)
-                    if (not_shared(i))
-                      first_rows.push_back(i);
-                  for (types::global_dof_index i = n;
-                       i > 0 && last_rows.size() < n_band;
-                       --i)
-                    if (not_shared(i - 1))
-                      last_rows.push_back(i - 1);
-                  std::reverse(last_rows.begin(), last_rows.end());
-                  return n_cuts(first_rows) < n_cuts(last_rows) ? first_rows :
-                                                                  last_rows;
-                };
-                const std::size_t n_band = band_rows.size();
-                band_rows                = rows_from_an_end(n_band);
-                if (n_cuts(band_rows) > 0)
-                  band_rows =
-                    rows_from_an_end(std::max<std::size_t>(1, n_band / 3));
+                const std::size_t n_band       = band_rows.size();
+                std::size_t       shared_first = 0, shared_last = 0;
+                for (types::global_dof_index i = 0; i < n_band && i < n; ++i)
+                  {
+                    shared_first += is_shared(i);
+                    shared_last += is_shared(n - 1 - i);
+                  }
+                band_rows.resize(std::min<std::size_t>(n_band, n));
+                const types::global_dof_index first =
+                  shared_first < shared_last ? 0 : n - band_rows.size();
+                std::iota(band_rows.begin(), band_rows.end(), first);
                 const unsigned int owner =
                   partition.owned_unknowns(0).n_elements() == 0 ? 1 : 0;
                 if (rank != owner)

@@ -227,6 +227,7 @@ namespace isoimpact
             for (const auto i : ranks->shared)
               if (row_exchange.is_owned(i))
                 own_surface_rows.push_back(i);
+            surface_rows = ranks->shared;
           }
         // The rows: those the rank may own (with load balancing, the
         // band of the other rank's rows too), and with shared_rows the
@@ -239,7 +240,8 @@ namespace isoimpact
           band.add_indices(stored.begin(), stored.end());
           // A lumped body whole on another rank: this rank steps its band
           // rows at most (a consistent mass's solve, or whole_state, reads
-          // every row's force).
+          // every row's force); with the state shared the band may hold
+          // contact surface rows, whose forces this rank then forms too.
           surface_rows_stepped =
             scheme == MassScheme::consistent || ranks->whole_state ||
             ranks->whole_on_rank == numbers::invalid_unsigned_int ||
@@ -1159,11 +1161,17 @@ namespace isoimpact
       Assert(u[line.index] == 0. && vh[line.index] == 0.,
              ExcMessage("the fused pass expects u_i = v_i = 0 on the "
                         "constrained unknowns"));
-    // The contact forces on the ghosts are their owners' to consume.
+    // The contact forces on the ghosts are their owners' to consume. With
+    // the state shared, both ranks form the forces of the surface rows
+    // either may step (in the band): those the other rank stepped are
+    // consumed too.
     if constexpr (owned_rows_only)
       {
         for (const auto i : row_exchange.ghost_unknowns())
           force[i] = 0.;
+        if (shared)
+          for (const auto i : surface_rows)
+            force[i] = 0.;
         if (u_ahead != nullptr)
           {
             for (std::size_t j = 0; j < sent.size(); ++j)

@@ -133,10 +133,11 @@ namespace isoimpact
     // Claimed balancing (LoadBalancing::claimed): owned_ranges() and
     // n_owned_unknowns() are then the rows outside the band (each rank's
     // fixed rows; with them the band's shared unknowns, which only their
-    // owner computes), is_owned() and the owned lists the partition's split
-    // (the owners of output, sums and contact forces). The band's other
-    // rows in chunks of consecutive rows, rank 0 claiming them from the
-    // first, rank 1 from the last.
+    // owner computes, but for a body whole on a rank with the state shared,
+    // whose band holds them), is_owned() and the owned lists the
+    // partition's split (the owners of output, sums and contact forces).
+    // The band's other rows in chunks of consecutive rows, rank 0 claiming
+    // them from the first, rank 1 from the last.
     bool
     claims_band() const;
     // Load balancing = shared memory (claims_band() too).

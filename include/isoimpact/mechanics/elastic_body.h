@@ -540,6 +540,9 @@ namespace isoimpact
     // copies for the contact damping: only the owner writes them), at
     // set-up.
     std::vector<dealii::types::global_dof_index> own_surface_rows;
+    // With the state shared: every contact surface unknown of the body
+    // (the pass leaves their forces zero, whichever rank stepped them).
+    std::vector<dealii::types::global_dof_index> surface_rows;
     // steps_contact_surface(), at set-up.
     bool surface_rows_stepped   = true;
     bool contact_reads_velocity = false;
