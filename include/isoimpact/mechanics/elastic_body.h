@@ -540,9 +540,10 @@ namespace isoimpact
     // copies for the contact damping: only the owner writes them), at
     // set-up.
     std::vector<dealii::types::global_dof_index> own_surface_rows;
-    // With the state shared: every contact surface unknown of the body
-    // (the pass leaves their forces zero, whichever rank stepped them).
-    std::vector<dealii::types::global_dof_index> surface_rows;
+    // With the state shared: the contact surface rows whose forces this
+    // rank forms and the other rank's pass may step (the pass leaves them
+    // zero), at set-up.
+    std::vector<dealii::types::global_dof_index> surface_rows_of_other_pass;
     // steps_contact_surface(), at set-up.
     bool surface_rows_stepped   = true;
     bool contact_reads_velocity = false;
