@@ -57,21 +57,11 @@ namespace isoimpact
     auto &dof_handler = this->dofs;
     dof_handler.reinit(this->mesh);
     dof_handler.distribute_dofs(this->fe());
-    // Bandwidth-reducing order: neighbouring unknowns close in memory,
-    // counted from the arc (the contact candidates) where there is one: its
-    // unknowns are the first, the others follow layer by layer inwards. The
-    // contact then reads and writes a contiguous stretch of the vectors, and
-    // the band that another rank may step of a body whole on a rank (the
-    // last rows, UnknownExchange) holds none of them, so that rank neither
-    // forms nor clears that body's contact forces (doc/parallel.md,
-    // session 61).
-    const IndexSet arc_unknowns =
-      DoFTools::extract_boundary_dofs(dof_handler,
-                                      ComponentMask(),
-                                      {BodyGeometry::curved_boundary_id});
-    std::vector<types::global_dof_index> starting_unknowns;
-    arc_unknowns.fill_index_vector(starting_unknowns);
-    DoFRenumbering::Cuthill_McKee(dof_handler, false, false, starting_unknowns);
+    // Bandwidth-reducing order: neighbouring unknowns close in memory.
+    // (Counted from the arc, its unknowns first, FEA level 7's step took
+    // 1.015 and 1.038 times as long on 1 and 2 threads: doc/parallel.md,
+    // session 61.)
+    DoFRenumbering::Cuthill_McKee(dof_handler);
 
     std::vector<Point<dim>> support_points(dof_handler.n_dofs());
     DoFTools::map_dofs_to_support_points(this->mapping(),

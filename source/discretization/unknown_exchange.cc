@@ -409,9 +409,7 @@ namespace isoimpact
             // last rows if as many), the owner's fixed rows the others.
             // Both ranks form the contact forces of the surfaces whose rows
             // they may step (ElasticBody: steps_contact_surface()), and the
-            // pass leaves every surface row's force zero. (FEA numbers the
-            // arc's unknowns first: its band holds none, session 61.)
-            // Sessions 54-59
+            // pass leaves every surface row's force zero. Sessions 54-59
             // left the surfaces' rows out of the band (only their owner had
             // their forces): each run of them cut the band and left a few
             // fixed rows among the band's, which the owner's pass stepped
