@@ -1182,8 +1182,9 @@ namespace isoimpact
     // (check_force_rows()), and both ranks form those of the rows either
     // may step: those the other rank stepped are consumed here too, read
     // first, since most are zero and long out of the caches (a store would
-    // fetch and dirty each line; session 61 cleared 7690 entries per rank
-    // and step here, ghosts included, for FEA level 7).
+    // fetch and dirty each line; up to 16faf07 this stored zero into 7690
+    // entries per rank and step, ghosts included, at FEA level 7:
+    // doc/parallel.md, session 61).
     if constexpr (owned_rows_only)
       {
         if (!shared)
